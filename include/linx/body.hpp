@@ -1,0 +1,88 @@
+// A rigid body: mass properties, pose and velocity, applied loads. Every body keeps six degrees of
+// freedom; joints restrict them through constraint rows.
+#pragma once
+
+#include <linx/shape.hpp>
+#include <linx/types.hpp>
+
+#include <string>
+#include <vector>
+
+namespace linx {
+
+/// Plain definition of a body, with defaults. All vectors are in the world frame at creation.
+struct BodyDef {
+  std::string name;
+  double mass = 1.0;                     ///< (kg), > 0 unless the body is static
+  Mat3 inertia = Mat3::Identity();       ///< about the centre of mass, body frame (kg m^2)
+  Vec3 position = Vec3::Zero();          ///< centre of mass, world frame (m)
+  Quat orientation = Quat::Identity();   ///< body frame relative to the world
+  Vec3 linear_velocity = Vec3::Zero();   ///< of the centre of mass, world frame (m/s)
+  Vec3 angular_velocity = Vec3::Zero();  ///< world frame (rad/s)
+  bool is_static = false;                ///< infinite mass: never moves
+  std::vector<ShapeDef> shapes;          ///< for drawing now and contacts later
+};
+
+/// Opaque index of a body in its World. Index -1 stands for the fixed world frame.
+struct BodyId {
+  int index = -1;
+  bool isWorld() const { return index < 0; }
+  friend bool operator==(BodyId, BodyId) = default;
+};
+inline constexpr BodyId kWorldBody{};
+
+class Body {
+ public:
+  explicit Body(const BodyDef& def);
+
+  const std::string& name() const { return name_; }
+  bool isStatic() const { return is_static_; }
+
+  double mass() const { return mass_; }
+  double inverseMass() const { return inv_mass_; }
+  const Mat3& inertiaBody() const { return inertia_body_; }  ///< (kg m^2), body frame
+  const Mat3& inverseInertiaBody() const { return inv_inertia_body_; }
+  Mat3 inertiaWorld() const;  ///< R I R^T (kg m^2)
+  Mat3 inverseInertiaWorld() const;
+
+  const Pose& pose() const { return pose_; }
+  const Vec3& position() const { return pose_.position; }
+  const Quat& orientation() const { return pose_.orientation; }
+  const Vec3& linearVelocity() const { return v_; }
+  const Vec3& angularVelocity() const { return w_; }
+  void setPose(const Pose& pose);  ///< orientation is normalized
+  void setLinearVelocity(const Vec3& v) { v_ = v; }
+  void setAngularVelocity(const Vec3& w) { w_ = w; }
+
+  /// Velocity (m/s, world) of a point given in world coordinates, moving with the body.
+  Vec3 velocityAt(const Vec3& world_point) const {
+    return v_ + w_.cross(world_point - pose_.position);
+  }
+
+  /// Loads are accumulated until the end of the next step, then cleared. (N), (N m), world frame.
+  void applyForce(const Vec3& force) { force_ += force; }
+  void applyForceAtPoint(const Vec3& force, const Vec3& world_point);
+  void applyTorque(const Vec3& torque) { torque_ += torque; }
+  const Vec3& force() const { return force_; }
+  const Vec3& torque() const { return torque_; }
+  void clearLoads();
+
+  /// 1/2 m v.v + 1/2 w.I w (J)
+  double kineticEnergy() const;
+  /// Angular momentum about the centre of mass, world frame (kg m^2/s).
+  Vec3 angularMomentum() const { return inertiaWorld() * w_; }
+
+  const std::vector<ShapeDef>& shapes() const { return shapes_; }
+
+ private:
+  std::string name_;
+  bool is_static_ = false;
+  double mass_ = 0, inv_mass_ = 0;
+  Mat3 inertia_body_, inv_inertia_body_;
+  Pose pose_;
+  Vec3 v_ = Vec3::Zero(), w_ = Vec3::Zero();
+  Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
+  std::vector<ShapeDef> shapes_;
+};
+
+}  // namespace linx

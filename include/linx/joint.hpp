@@ -1,0 +1,100 @@
+// The joint interface: every joint type is one class behind it, in its own file (src/joints/).
+// Nothing else in the engine knows the concrete types. A joint says how many rows it may need
+// this step, fills them from the two bodies' current state, and reads out its coordinate and
+// its position error.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/row.hpp>
+#include <linx/types.hpp>
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace linx {
+
+/// Unilateral limits on a joint coordinate (m for sliders, rad for hinges).
+struct JointLimits {
+  double lower = -kInfinity;
+  double upper = kInfinity;
+};
+
+/// A velocity motor on a joint coordinate: drives its rate towards target_velocity with a force
+/// (N) or torque (N m) of at most max_force.
+struct JointMotor {
+  double target_velocity = 0.0;  ///< (m/s or rad/s)
+  double max_force = 0.0;        ///< (N or N m), >= 0
+};
+
+/// Plain definition of a joint. All fields in the world frame at creation. Not every type uses
+/// every field: a ball joint has no axis, a fixed joint neither axis, limits nor motor.
+struct JointDef {
+  std::string name;
+  BodyId body1 = kWorldBody;   ///< must be a body
+  BodyId body2 = kWorldBody;   ///< kWorldBody fixes body1 to the world
+  Vec3 anchor = Vec3::Zero();  ///< a point on the joint (m), world frame at creation
+  Vec3 axis = Vec3::UnitZ();   ///< hinge rotation axis / slider direction, world frame
+  std::optional<JointLimits> limits = std::nullopt;  ///< sliders and hinges
+  std::optional<JointMotor> motor = std::nullopt;    ///< sliders and hinges
+  std::optional<double> erp = std::nullopt;          ///< overrides the world's error reduction
+  std::optional<double> cfm = std::nullopt;  ///< overrides the world's constraint force mixing
+};
+
+/// State of one of a joint's two bodies (the world frame: identity pose, zero velocity).
+struct BodyState {
+  Pose pose;
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
+};
+
+/// What a joint needs to fill its rows.
+struct JointContext {
+  BodyState b1, b2;
+  double h = 0.0;    ///< step length (s)
+  double erp = 0.2;  ///< effective error reduction for this joint
+  double cfm = 0.0;  ///< effective constraint force mixing for this joint
+};
+
+class Joint {
+ public:
+  explicit Joint(const JointDef& def) : def_(def) {}
+  virtual ~Joint() = default;
+  Joint(const Joint&) = delete;
+  Joint& operator=(const Joint&) = delete;
+
+  /// "fixed", "slider", "hinge", "ball", ...
+  virtual std::string_view type() const = 0;
+  /// The most rows fill() may write this step (count stage of assembly).
+  virtual int maxRows() const = 0;
+  /// Fills rows[0..n) and returns n. Rows arrive with erp/cfm set from the context; bodies and
+  /// keys are set by assembly. Row slots are stable: slot i always means the same constraint.
+  virtual int fill(const JointContext& ctx, std::span<Row> rows) const = 0;
+  /// The free coordinate (hinge angle in rad, slider position in m), zero at creation; nothing for
+  /// joints without one.
+  virtual std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const = 0;
+  /// Largest position error of the joint's equality rows, and of a violated limit (m or rad).
+  virtual double error(const BodyState& b1, const BodyState& b2) const;
+
+  const std::string& name() const { return def_.name; }
+  BodyId body1() const { return def_.body1; }
+  BodyId body2() const { return def_.body2; }
+  const JointDef& def() const { return def_; }
+  void setMotor(std::optional<JointMotor> motor) { def_.motor = motor; }
+  void setLimits(std::optional<JointLimits> limits) { def_.limits = limits; }
+
+ private:
+  JointDef def_;
+};
+
+/// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball") from its definition
+/// and the two bodies' states at creation. Throws std::invalid_argument for an unknown type or a
+/// definition the type cannot accept (a zero axis, inverted limits, a negative motor force).
+std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
+                                 const BodyState& b2);
+/// Whether `type` names a registered joint type.
+bool isJointType(std::string_view type);
+
+}  // namespace linx

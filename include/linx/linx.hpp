@@ -1,0 +1,12 @@
+// Umbrella header: the whole public API.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/recorder.hpp>
+#include <linx/row.hpp>
+#include <linx/scene.hpp>
+#include <linx/shape.hpp>
+#include <linx/solver.hpp>
+#include <linx/types.hpp>
+#include <linx/world.hpp>

@@ -1,0 +1,37 @@
+// Writes a run's trajectory and reports as CSV files (see docs/scene-format.md, "Outputs"):
+//   DIR/bodies.csv  time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz
+//   DIR/joints.csv  time,joint,coordinate,error
+//   DIR/world.csv   time,kinetic_energy,potential_energy,total_energy,max_joint_error,
+//                   solver_iterations,residual
+// Files are written under temporary names and renamed by commit(), so an interrupted or failed
+// run never leaves half a file under the final names.
+#pragma once
+
+#include <linx/world.hpp>
+
+#include <filesystem>
+#include <memory>
+
+namespace linx {
+
+class Recorder {
+ public:
+  /// Creates DIR if needed and opens the temporary files. Throws std::runtime_error on failure.
+  explicit Recorder(const std::filesystem::path& dir);
+  ~Recorder();  ///< removes the temporary files unless commit() was called
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  /// Appends one row per body, one per joint and one for the world at the world's current time.
+  void record(const World& world);
+  /// Flushes and renames the files to their final names. Throws std::runtime_error on failure.
+  void commit();
+
+ private:
+  struct Files;
+  std::filesystem::path dir_;
+  std::unique_ptr<Files> files_;
+  bool committed_ = false;
+};
+
+}  // namespace linx

@@ -1,0 +1,50 @@
+// JSON scene files (docs/scene-format.md): reading, validating and building a World from them.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/world.hpp>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace linx {
+
+/// A bad scene: which file, which field (a path such as `bodies[2].mass`) and what is wrong.
+/// what() is the one-line message "FILE: FIELD: PROBLEM".
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(std::string file, std::string field, std::string problem);
+  const std::string& file() const { return file_; }
+  const std::string& field() const { return field_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string file_, field_, problem_;
+};
+
+struct SceneJoint {
+  std::string type;  ///< "fixed", "slider", "hinge", "ball"
+  JointDef def;      ///< body ids index Scene::bodies in order
+};
+
+/// A validated scene: everything needed to build a World and run it.
+struct Scene {
+  std::string file;  ///< where it came from (for messages)
+  WorldSettings settings;
+  double duration = 1.0;  ///< (s)
+  std::vector<BodyDef> bodies;
+  std::vector<SceneJoint> joints;
+};
+
+/// Reads and validates a scene file. Throws SceneError.
+Scene loadScene(const std::filesystem::path& path);
+/// Parses and validates scene text; `file` names it in messages. Throws SceneError.
+Scene parseScene(std::string_view text, const std::string& file);
+/// Builds the world (bodies in order, then joints). Throws SceneError.
+World buildWorld(const Scene& scene);
+
+}  // namespace linx

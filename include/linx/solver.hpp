@@ -1,0 +1,38 @@
+// Solver choice and settings, and what a step reports about its solve.
+#pragma once
+
+#include <string_view>
+
+namespace linx {
+
+enum class SolverType {
+  Exact,  ///< sparse factorization + active set: joints to round-off, closed loops included
+  Pgs,    ///< projected Gauss-Seidel with warm starting
+};
+
+struct SolverSettings {
+  SolverType type = SolverType::Exact;
+  int iterations = 100;      ///< PGS sweeps / exact active-set iterations, at most
+  double tolerance = 1e-10;  ///< stop when the largest complementarity violation is below (m/s)
+  double erp = 0.2;          ///< error reduction per step, [0, 1]
+  double cfm = 1e-10;        ///< constraint force mixing, >= 0
+  bool warm_start = true;    ///< start from the previous step's impulses (matched by row key)
+  double sor = 1.0;          ///< PGS over-relaxation, (0, 2)
+  int substeps = 1;          ///< each step split into this many assemble-solve-integrate passes
+  bool projection = false;   ///< post-stabilization: pull joint errors back after each step
+  int projection_iterations = 3;        ///< Newton iterations of the projection
+  double projection_tolerance = 1e-12;  ///< stop projecting below this error (m or rad)
+};
+
+/// Figures of the last step's solve (the last substep's when substepping).
+struct SolverReport {
+  int rows = 0;            ///< rows assembled
+  int iterations = 0;      ///< PGS sweeps, or active-set iterations of the exact solver
+  double residual = 0.0;   ///< largest complementarity violation, |w| on free rows (m/s, rad/s)
+  int redundant_rows = 0;  ///< exact solver: rows found linearly dependent (over-constrained)
+  bool converged = true;   ///< met the tolerance within the iteration cap
+};
+
+std::string_view solverTypeName(SolverType type);
+
+}  // namespace linx

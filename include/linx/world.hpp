@@ -1,0 +1,90 @@
+// The world: bodies, joints and the time step. See docs/architecture.md for the stages of a step.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/solver.hpp>
+#include <linx/types.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace linx {
+
+struct WorldSettings {
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< (m/s^2), world frame
+  double timestep = 1e-3;                ///< (s)
+  SolverSettings solver;
+};
+
+struct JointId {
+  int index = -1;
+  friend bool operator==(JointId, JointId) = default;
+};
+
+/// Energies of the whole world (J). Potential energy is gravitational, zero at the origin.
+struct Energy {
+  double kinetic = 0.0;
+  double potential = 0.0;
+  double total() const { return kinetic + potential; }
+};
+
+class World {
+ public:
+  explicit World(const WorldSettings& settings = {});
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+
+  WorldSettings& settings() { return settings_; }
+  const WorldSettings& settings() const { return settings_; }
+
+  /// Throws std::invalid_argument for a non-positive mass or inertia on a dynamic body, a
+  /// non-finite number, or a duplicate name.
+  BodyId createBody(const BodyDef& def);
+  /// Creates a joint of a registered type at the bodies' current poses; throws
+  /// std::invalid_argument for a bad definition or unknown bodies.
+  JointId createJoint(std::string_view type, const JointDef& def);
+
+  int bodyCount() const { return static_cast<int>(bodies_.size()); }
+  int jointCount() const { return static_cast<int>(joints_.size()); }
+  Body& body(BodyId id);
+  const Body& body(BodyId id) const;
+  Joint& joint(JointId id);
+  const Joint& joint(JointId id) const;
+  std::optional<BodyId> findBody(std::string_view name) const;
+  std::optional<JointId> findJoint(std::string_view name) const;
+
+  /// Advances by settings().timestep.
+  void step();
+  double time() const { return time_; }
+  std::int64_t stepCount() const { return steps_; }
+  const SolverReport& lastReport() const { return report_; }
+
+  /// The joint's coordinate (hinge angle in rad, slider position in m), zero at creation.
+  std::optional<double> jointCoordinate(JointId id) const;
+  /// The joint's largest position error (m or rad).
+  double jointError(JointId id) const;
+  /// Largest error over all joints.
+  double maxJointError() const;
+  Energy energy() const;
+  /// State of a body as a joint sees it (identity for the world frame).
+  BodyState bodyState(BodyId id) const;
+
+ private:
+  struct Impl;
+  void substep(double h);
+
+  WorldSettings settings_;
+  std::vector<Body> bodies_;
+  std::vector<std::unique_ptr<Joint>> joints_;
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  SolverReport report_;
+  std::unique_ptr<Impl> impl_;  // solver state kept across steps (warm start, work buffers)
+};
+
+}  // namespace linx

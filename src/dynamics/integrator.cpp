@@ -1,0 +1,43 @@
+#include "dynamics/integrator.hpp"
+
+#include "math/rotation.hpp"
+
+namespace linx::dynamics {
+
+Vec3 gyroscopicStep(const Mat3& inertia, const Vec3& w0, double h) {
+  // Solve F(w1) = I (w1 - w0) + h wm x (I wm) = 0, wm = (w0 + w1) / 2, by Newton from w1 = w0.
+  // dF/dw1 = I + h/2 ([wm]x I - [I wm]x). Converges in a few iterations while h |w| is moderate.
+  Vec3 w1 = w0;
+  for (int it = 0; it < 8; ++it) {
+    const Vec3 wm = 0.5 * (w0 + w1);
+    const Vec3 lm = inertia * wm;
+    const Vec3 f = inertia * (w1 - w0) + h * wm.cross(lm);
+    const Mat3 jac = inertia + 0.5 * h * (math::skew(wm) * inertia - math::skew(lm));
+    const Vec3 dw = jac.partialPivLu().solve(f);
+    w1 -= dw;
+    if (dw.squaredNorm() <= 1e-30 * (1.0 + w1.squaredNorm())) break;
+  }
+  return w1;
+}
+
+void integrateVelocity(Body& body, const Vec3& gravity, double h) {
+  if (body.isStatic()) return;
+  body.setLinearVelocity(body.linearVelocity() + h * (gravity + body.inverseMass() * body.force()));
+
+  const Mat3 r = body.orientation().toRotationMatrix();
+  Vec3 w_body = r.transpose() * body.angularVelocity();
+  if (!w_body.isZero(0.0)) w_body = gyroscopicStep(body.inertiaBody(), w_body, h);
+  const Vec3 torque_body = r.transpose() * body.torque();
+  w_body += h * (body.inverseInertiaBody() * torque_body);
+  body.setAngularVelocity(r * w_body);
+}
+
+void integratePosition(Body& body, double h) {
+  if (body.isStatic()) return;
+  Pose pose = body.pose();
+  pose.position += h * body.linearVelocity();
+  pose.orientation = math::integrate(pose.orientation, body.angularVelocity(), h);
+  body.setPose(pose);
+}
+
+}  // namespace linx::dynamics

@@ -1,0 +1,19 @@
+#pragma once
+
+#include "joints/row_parts.hpp"
+
+namespace linx::joints {
+
+class BallJoint final : public Joint {
+ public:
+  BallJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
+  std::string_view type() const override { return "ball"; }
+  int maxRows() const override { return 3; }
+  int fill(const JointContext& ctx, std::span<Row> rows) const override;
+  std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const override;
+
+ private:
+  JointFrames frames_;
+};
+
+}  // namespace linx::joints

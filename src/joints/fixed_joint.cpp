@@ -1,0 +1,19 @@
+// Fixed (weld) joint: the two bodies keep their relative pose of creation. 6 rows.
+//   point: C = (p1 + r1) - (p2 + r2) = 0           J = [ E, -[r1]x | -E, [r2]x ]
+//   lock:  C = R2 log(q2^-1 q1 q0^-1) = 0           J = [ 0, E | 0, -E ]
+// No free coordinate.
+#include "joints/fixed_joint.hpp"
+
+namespace linx::joints {
+
+FixedJoint::FixedJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
+    : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
+
+int FixedJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
+  pointRows(Arms::of(frames_, ctx.b1, ctx.b2), rows.subspan<0, 3>());
+  lockRows(frames_, ctx.b1, ctx.b2, rows.subspan<3, 3>());
+  for (int k = 0; k < 6; ++k) rows[k].key = k;
+  return 6;
+}
+
+}  // namespace linx::joints

@@ -1,0 +1,21 @@
+#pragma once
+
+#include "joints/row_parts.hpp"
+
+namespace linx::joints {
+
+class FixedJoint final : public Joint {
+ public:
+  FixedJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
+  std::string_view type() const override { return "fixed"; }
+  int maxRows() const override { return 6; }
+  int fill(const JointContext& ctx, std::span<Row> rows) const override;
+  std::optional<double> coordinate(const BodyState&, const BodyState&) const override {
+    return std::nullopt;
+  }
+
+ private:
+  JointFrames frames_;
+};
+
+}  // namespace linx::joints

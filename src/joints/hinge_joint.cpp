@@ -1,0 +1,54 @@
+// Hinge (revolute) joint: a common anchor and a common axis a. 5 rows, plus a limit row when the
+// angle reaches a bound and a motor row when a motor is set.
+//   point:  C = (p1 + r1) - (p2 + r2) = 0                      J = [ E, -[r1]x | -E, [r2]x ]
+//   align:  C_j = t_j . (a2 x a1) = 0, t_1, t_2 _|_ a2          J_j = [ 0, t_j | 0, -t_j ]
+//   angle:  theta = twist of q2^-1 q1 q0^-1 about a (body 1 relative to body 2, right-hand rule
+//           about the axis, zero at creation, in (-pi, pi]),   J = [ 0, a | 0, -a ]
+//   limits: theta >= lower, theta <= upper (unilateral, only when reached)
+//   motor:  J u = target angular velocity, |lambda| <= h max_torque
+#include "joints/hinge_joint.hpp"
+
+#include "math/rotation.hpp"
+
+namespace linx::joints {
+
+namespace {
+enum Slot { kPoint = 0, kAlign = 3, kLower = 5, kUpper = 6, kMotor = 7 };
+}
+
+HingeJoint::HingeJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
+    : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
+
+std::optional<double> HingeJoint::coordinate(const BodyState& b1, const BodyState& b2) const {
+  return math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2);
+}
+
+int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
+  pointRows(Arms::of(frames_, ctx.b1, ctx.b2), rows.subspan<0, 3>());
+  alignRows(frames_, ctx.b1, ctx.b2, rows.subspan<3, 2>());
+  for (int k = 0; k < 5; ++k) rows[k].key = k;
+  int n = 5;
+
+  const Vec3 axis = ctx.b2.pose.orientation * frames_.axis2;
+  const double theta = *coordinate(ctx.b1, ctx.b2);
+  if (const auto& lim = def().limits) {
+    for (const bool lower : {true, false}) {
+      Row& row = rows[n];
+      angularRow(axis, theta, row);
+      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, row)) {
+        row.key = lower ? kLower : kUpper;
+        ++n;
+      }
+    }
+  }
+  if (const auto& motor = def().motor) {
+    Row& row = rows[n];
+    angularRow(axis, theta, row);
+    motorRow(ctx, *motor, row);
+    row.key = kMotor;
+    ++n;
+  }
+  return n;
+}
+
+}  // namespace linx::joints

@@ -1,0 +1,117 @@
+#include "joints/row_parts.hpp"
+
+#include "math/rotation.hpp"
+
+#include <cmath>
+
+namespace linx::joints {
+
+namespace {
+Vec6 block(const Vec3& lin, const Vec3& ang) {
+  Vec6 v;
+  v << lin, ang;
+  return v;
+}
+}  // namespace
+
+JointFrames JointFrames::capture(const JointDef& def, const BodyState& b1, const BodyState& b2) {
+  JointFrames f;
+  f.anchor1 = b1.pose.toLocal(def.anchor);
+  f.anchor2 = b2.pose.toLocal(def.anchor);
+  const Vec3 axis = def.axis.normalized();
+  f.axis1 = b1.pose.orientation.conjugate() * axis;
+  f.axis2 = b2.pose.orientation.conjugate() * axis;
+  f.rest = (b2.pose.orientation.conjugate() * b1.pose.orientation).normalized();
+  return f;
+}
+
+Arms Arms::of(const JointFrames& f, const BodyState& b1, const BodyState& b2) {
+  Arms a;
+  a.r1 = b1.pose.orientation * f.anchor1;
+  a.r2 = b2.pose.orientation * f.anchor2;
+  a.d = (b1.pose.position + a.r1) - (b2.pose.position + a.r2);
+  return a;
+}
+
+Quat relativeRotation(const JointFrames& f, const BodyState& b1, const BodyState& b2) {
+  return (b2.pose.orientation.conjugate() * b1.pose.orientation * f.rest.conjugate()).normalized();
+}
+
+void pointRows(const Arms& arms, std::span<Row, 3> rows) {
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = Vec3::Unit(k);
+    rows[k].Ja = block(e, arms.r1.cross(e));
+    rows[k].Jb = block(-e, -arms.r2.cross(e));
+    rows[k].phi = arms.d[k];
+  }
+}
+
+void lockRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
+              std::span<Row, 3> rows) {
+  const Vec3 c = b2.pose.orientation * math::logMap(relativeRotation(f, b1, b2));
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 e = Vec3::Unit(k);
+    rows[k].Ja = block(Vec3::Zero(), e);
+    rows[k].Jb = block(Vec3::Zero(), -e);
+    rows[k].phi = c[k];
+  }
+}
+
+void alignRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
+               std::span<Row, 2> rows) {
+  const Vec3 a1 = b1.pose.orientation * f.axis1;
+  const Vec3 a2 = b2.pose.orientation * f.axis2;
+  Vec3 t[2];
+  math::orthonormalBasis(a2, t[0], t[1]);
+  const Vec3 c = a2.cross(a1);
+  for (int j = 0; j < 2; ++j) {
+    rows[j].Ja = block(Vec3::Zero(), t[j]);
+    rows[j].Jb = block(Vec3::Zero(), -t[j]);
+    rows[j].phi = t[j].dot(c);
+  }
+}
+
+void linearRow(const Arms& arms, const Vec3& n, Row& row) {
+  row.Ja = block(n, arms.r1.cross(n));
+  row.Jb = block(-n, -(arms.r2 + arms.d).cross(n));
+  row.phi = n.dot(arms.d);
+}
+
+void angularRow(const Vec3& a, double theta, Row& row) {
+  row.Ja = block(Vec3::Zero(), a);
+  row.Jb = block(Vec3::Zero(), -a);
+  row.phi = theta;
+}
+
+double rowRate(const Row& row, const BodyState& b1, const BodyState& b2) {
+  return row.Ja.head<3>().dot(b1.v) + row.Ja.tail<3>().dot(b1.w) + row.Jb.head<3>().dot(b2.v) +
+         row.Jb.tail<3>().dot(b2.w);
+}
+
+bool limitRow(const JointContext& ctx, double bound, bool lower, Row& row) {
+  if (!lower) {  // coordinate <= bound  <=>  -coordinate >= -bound
+    row.Ja = -row.Ja;
+    row.Jb = -row.Jb;
+    row.phi = -row.phi;
+    bound = -bound;
+  }
+  const double gap = row.phi - bound;  // >= 0 when admissible
+  const double rate = rowRate(row, ctx.b1, ctx.b2);
+  if (gap > 0.0 && gap + ctx.h * rate >= 0.0) return false;
+  row.phi = gap;
+  row.kind = RowKind::Unilateral;
+  row.lo = 0.0;
+  row.hi = kInfinity;
+  if (gap > 0.0) row.erp = 1.0;  // speculative: arrive exactly at the bound, never past it
+  return true;
+}
+
+void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row) {
+  row.kind = RowKind::Motor;
+  row.phi = 0.0;
+  row.speed = motor.target_velocity;
+  row.lo = -ctx.h * motor.max_force;
+  row.hi = ctx.h * motor.max_force;
+}
+
+}  // namespace linx::joints

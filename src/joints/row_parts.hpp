@@ -1,0 +1,65 @@
+// Reusable constraint parts that joints are built from. Each fills rows for bodies 1 (a) and 2 (b)
+// with body 2 as the reference frame, so that every part writes C = (something of body 1) minus
+// (the same of body 2), and dC/dt = J u:
+//
+//   point      C = (p1 + r1) - (p2 + r2)                      3 rows
+//              J_k = [ e_k, r1 x e_k | -e_k, -(r2 x e_k) ]
+//   lock       C = R2 log(q2^-1 q1 q0^-1)  (relative rotation since creation, world frame)
+//              J_k = [ 0, e_k | 0, -e_k ]                       3 rows (exact at C = 0)
+//   align      C_j = t_j . (a2 x a1), a_i the hinge axis fixed in body i, t_j _|_ a2
+//              J_j = [ 0, t_j | 0, -t_j ]                      2 rows (exact at C = 0)
+//   linear     C = n . d, d = (p1 + r1) - (p2 + r2), n fixed in body 2
+//              J = [ n, r1 x n | -n, -(r2 + d) x n ]          1 row per direction, exact
+//   angular    C = theta about a (twist of q2^-1 q1 q0^-1), J = [ 0, a | 0, -a ]
+//
+// Limits and motors act on a coordinate row (linear or angular) through limitRow and motorRow.
+#pragma once
+
+#include <linx/joint.hpp>
+#include <linx/row.hpp>
+
+namespace linx::joints {
+
+/// Joint geometry captured at creation, in each body's frame.
+struct JointFrames {
+  Vec3 anchor1 = Vec3::Zero();   ///< anchor in body 1's frame
+  Vec3 anchor2 = Vec3::Zero();   ///< anchor in body 2's frame
+  Vec3 axis1 = Vec3::UnitZ();    ///< unit axis in body 1's frame
+  Vec3 axis2 = Vec3::UnitZ();    ///< unit axis in body 2's frame
+  Quat rest = Quat::Identity();  ///< q2^-1 q1 at creation: relative orientation that reads zero
+
+  static JointFrames capture(const JointDef& def, const BodyState& b1, const BodyState& b2);
+};
+
+/// World-frame lever arms (centre of mass to anchor) and anchor separation of the current state.
+struct Arms {
+  Vec3 r1, r2;
+  Vec3 d;  ///< (p1 + r1) - (p2 + r2)
+  static Arms of(const JointFrames& f, const BodyState& b1, const BodyState& b2);
+};
+
+/// Relative rotation of body 1 with respect to body 2 since creation, in body 2's frame.
+Quat relativeRotation(const JointFrames& f, const BodyState& b1, const BodyState& b2);
+
+void pointRows(const Arms& arms, std::span<Row, 3> rows);
+void lockRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
+              std::span<Row, 3> rows);
+void alignRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
+               std::span<Row, 2> rows);
+/// One linear row along the world direction n (fixed in body 2), C = n . d.
+void linearRow(const Arms& arms, const Vec3& n, Row& row);
+/// One angular row about the world axis a, C = theta.
+void angularRow(const Vec3& a, double theta, Row& row);
+
+/// Turns a coordinate row (J, phi = coordinate) into a limit row if the coordinate is at or past
+/// `bound`, or will cross it within this step at its current rate; returns whether it did.
+/// A gap still open is closed exactly in one step (speculative), an overshoot removed at the
+/// row's erp. lower: coordinate >= bound; otherwise coordinate <= bound.
+bool limitRow(const JointContext& ctx, double bound, bool lower, Row& row);
+/// Turns a coordinate row into a velocity motor row: J u = target, |lambda| <= h max_force.
+void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row);
+
+/// Rate J u of a row for the given body states.
+double rowRate(const Row& row, const BodyState& b1, const BodyState& b2);
+
+}  // namespace linx::joints

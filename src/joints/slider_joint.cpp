@@ -1,0 +1,60 @@
+// Slider (prismatic) joint: relative rotation locked, relative translation only along the axis n
+// (fixed in body 2). 5 rows, plus a limit row when the position reaches a bound and a motor row.
+// The anchor points, coincident at creation, separate by d = (p1 + r1) - (p2 + r2):
+//   lock:    C = R2 log(q2^-1 q1 q0^-1) = 0                   J_k = [ 0, e_k | 0, -e_k ]
+//   linear:  C_j = t_j . d = 0, t_1, t_2 _|_ n, fixed in body 2
+//            J_j = [ t_j, r1 x t_j | -t_j, -(r2 + d) x t_j ]   (exact: the rows stay right when
+//            both bodies rotate together, because t_j turns with body 2)
+//   position s = n . d (body 1 relative to body 2 along n, m, zero at creation), same J form
+//   limits:  s >= lower, s <= upper (unilateral, only when reached)
+//   motor:   J u = target velocity, |lambda| <= h max_force
+#include "joints/slider_joint.hpp"
+
+#include "math/rotation.hpp"
+
+namespace linx::joints {
+
+namespace {
+enum Slot { kLock = 0, kLinear = 3, kLower = 5, kUpper = 6, kMotor = 7 };
+}
+
+SliderJoint::SliderJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
+    : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
+
+std::optional<double> SliderJoint::coordinate(const BodyState& b1, const BodyState& b2) const {
+  const Arms arms = Arms::of(frames_, b1, b2);
+  return (b2.pose.orientation * frames_.axis2).dot(arms.d);
+}
+
+int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
+  lockRows(frames_, ctx.b1, ctx.b2, rows.subspan<0, 3>());
+  const Arms arms = Arms::of(frames_, ctx.b1, ctx.b2);
+  const Vec3 n = ctx.b2.pose.orientation * frames_.axis2;
+  Vec3 t1, t2;
+  math::orthonormalBasis(n, t1, t2);
+  linearRow(arms, t1, rows[3]);
+  linearRow(arms, t2, rows[4]);
+  for (int k = 0; k < 5; ++k) rows[k].key = k;
+  int n_rows = 5;
+
+  if (const auto& lim = def().limits) {
+    for (const bool lower : {true, false}) {
+      Row& row = rows[n_rows];
+      linearRow(arms, n, row);
+      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, row)) {
+        row.key = lower ? kLower : kUpper;
+        ++n_rows;
+      }
+    }
+  }
+  if (const auto& motor = def().motor) {
+    Row& row = rows[n_rows];
+    linearRow(arms, n, row);
+    motorRow(ctx, *motor, row);
+    row.key = kMotor;
+    ++n_rows;
+  }
+  return n_rows;
+}
+
+}  // namespace linx::joints

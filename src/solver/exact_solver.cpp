@@ -1,0 +1,172 @@
+#include "solver/exact_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace linx::solver {
+
+namespace {
+using Triplet = Eigen::Triplet<double>;
+}
+
+void ExactSolver::buildMatrix(const Problem& p) {
+  const std::size_t n = p.rows.size();
+  // Rows touching each body; A_kl = sum over shared bodies of J_k,body . (M^-1 J_l,body^T).
+  std::vector<std::vector<std::pair<int, bool>>> by_body(p.bodies.size());  // (row, is side a)
+  for (std::size_t k = 0; k < n; ++k) {
+    const Row& r = p.rows[k];
+    if (r.body_a >= 0) by_body[static_cast<std::size_t>(r.body_a)].push_back({int(k), true});
+    if (r.body_b >= 0) by_body[static_cast<std::size_t>(r.body_b)].push_back({int(k), false});
+  }
+  std::vector<Triplet> triplets;
+  for (std::size_t k = 0; k < n; ++k) triplets.emplace_back(int(k), int(k), p.rows[k].cfm);
+  for (const auto& list : by_body) {
+    for (const auto& [k, ka] : list) {
+      const Vec6& jk = ka ? p.rows[std::size_t(k)].Ja : p.rows[std::size_t(k)].Jb;
+      for (const auto& [l, la] : list) {
+        const Vec6& wl = la ? sys_.Wa[std::size_t(l)] : sys_.Wb[std::size_t(l)];
+        triplets.emplace_back(k, l, jk.dot(wl));
+      }
+    }
+  }
+  a_.resize(int(n), int(n));
+  a_.setFromTriplets(triplets.begin(), triplets.end());
+  b_.resize(int(n));
+  for (std::size_t k = 0; k < n; ++k)
+    b_[int(k)] = RowSystem::rate(p.rows[k], p.bodies) - sys_.target[k];
+}
+
+int ExactSolver::solveFree(const Problem& p) {
+  const int n = int(p.rows.size());
+  free_index_.assign(std::size_t(n), -1);
+  int nf = 0;
+  for (int k = 0; k < n; ++k)
+    if (state_[std::size_t(k)] == State::Free) free_index_[std::size_t(k)] = nf++;
+  if (nf == 0) return 0;
+
+  // A_FF x = -(b_F + A_FC lambda_C)
+  Eigen::VectorXd rhs(nf);
+  for (int k = 0; k < n; ++k)
+    if (free_index_[std::size_t(k)] >= 0) rhs[free_index_[std::size_t(k)]] = -b_[k];
+  std::vector<Triplet> triplets;
+  double max_diag = 0.0;
+  for (int col = 0; col < n; ++col) {
+    const int fc = free_index_[std::size_t(col)];
+    for (SpMat::InnerIterator it(a_, col); it; ++it) {
+      const int fr = free_index_[std::size_t(it.row())];
+      if (fr < 0) continue;
+      if (fc >= 0) {
+        triplets.emplace_back(fr, fc, it.value());
+        if (fr == fc) max_diag = std::max(max_diag, it.value());
+      } else {
+        rhs[fr] -= it.value() * p.lambda[std::size_t(col)];
+      }
+    }
+  }
+  SpMat aff(nf, nf);
+  aff.setFromTriplets(triplets.begin(), triplets.end());
+
+  // A tiny shift keeps the factorization finite when A_FF is singular (redundant rows); refinement
+  // against the unshifted matrix then removes its effect on every consistent equation.
+  const double shift = 1e-13 * std::max(max_diag, 1e-300);
+  SpMat shifted = aff;
+  for (int i = 0; i < nf; ++i) shifted.coeffRef(i, i) += shift;
+  ldlt_.compute(shifted);
+  Eigen::VectorXd x = ldlt_.solve(rhs);
+  for (int refine = 0; refine < 3; ++refine) {
+    const Eigen::VectorXd r = rhs - aff * x;
+    if (r.lpNorm<Eigen::Infinity>() <= 1e-15 * (1.0 + rhs.lpNorm<Eigen::Infinity>())) break;
+    x += ldlt_.solve(r);
+  }
+  for (int k = 0; k < n; ++k)
+    if (free_index_[std::size_t(k)] >= 0) p.lambda[std::size_t(k)] = x[free_index_[std::size_t(k)]];
+
+  // Redundancy: a pivot that is tiny compared with its own diagonal entry (the part of the row
+  // that is not the regularization) means the row depends on earlier ones.
+  int redundant = 0;
+  const Eigen::VectorXd& d = ldlt_.vectorD();
+  const auto& perm = ldlt_.permutationP().indices();
+  for (int j = 0; j < nf; ++j) {
+    const double diag = aff.coeff(j, j);
+    if (d[perm[j]] < 1e-8 * diag) ++redundant;
+  }
+  return redundant;
+}
+
+SolverReport ExactSolver::solve(Problem& p) {
+  SolverReport report;
+  const std::size_t n = p.rows.size();
+  report.rows = int(n);
+  if (n == 0) return report;
+  sys_.build(p);
+  buildMatrix(p);
+
+  // Initial states from the guess: rows at a finite bound start there.
+  state_.assign(n, State::Free);
+  for (std::size_t k = 0; k < n; ++k) {
+    double lo, hi;
+    RowSystem::bounds(p.rows, p.lambda, k, lo, hi);
+    if (lo == hi || (std::isfinite(lo) && p.lambda[k] <= lo))
+      state_[k] = State::Lower;
+    else if (std::isfinite(hi) && p.lambda[k] >= hi)
+      state_[k] = State::Upper;
+  }
+
+  std::size_t best_infeasible = n + 1;
+  int stalls = 0;
+  report.converged = false;
+  std::vector<std::size_t> infeasible;
+  Eigen::VectorXd w(static_cast<int>(n));
+  for (int it = 0; it < std::max(1, settings_.iterations); ++it) {
+    for (std::size_t k = 0; k < n; ++k) {
+      if (state_[k] == State::Free) continue;
+      double lo, hi;
+      RowSystem::bounds(p.rows, p.lambda, k, lo, hi);
+      p.lambda[k] = state_[k] == State::Lower ? lo : hi;
+    }
+    report.redundant_rows = solveFree(p);
+    report.iterations = it + 1;
+
+    const Eigen::Map<const Eigen::VectorXd> lam(p.lambda.data(), int(n));
+    w = a_ * lam + b_;
+    infeasible.clear();
+    for (std::size_t k = 0; k < n; ++k) {
+      double lo, hi;
+      RowSystem::bounds(p.rows, p.lambda, k, lo, hi);
+      const double l = p.lambda[k], tol_l = 1e-12 * (1.0 + std::abs(l));
+      const double wk = w[int(k)];
+      const bool bad = (state_[k] == State::Free && (l < lo - tol_l || l > hi + tol_l)) ||
+                       (state_[k] == State::Lower && lo != hi && wk < -settings_.tolerance) ||
+                       (state_[k] == State::Upper && lo != hi && wk > settings_.tolerance);
+      if (bad) infeasible.push_back(k);
+    }
+    if (infeasible.empty()) {
+      report.converged = true;
+      break;
+    }
+    // Block pivoting while it makes progress, single pivots (the last infeasible row) otherwise:
+    // the single-pivot rule terminates for the P-matrices of well-posed problems.
+    if (infeasible.size() < best_infeasible) {
+      best_infeasible = infeasible.size();
+      stalls = 0;
+    } else {
+      ++stalls;
+    }
+    if (stalls >= 3) infeasible.erase(infeasible.begin(), infeasible.end() - 1);
+    for (const std::size_t k : infeasible) {
+      double lo, hi;
+      RowSystem::bounds(p.rows, p.lambda, k, lo, hi);
+      if (state_[k] == State::Free)
+        state_[k] = p.lambda[k] < lo ? State::Lower : State::Upper;
+      else
+        state_[k] = State::Free;
+    }
+  }
+
+  for (std::size_t k = 0; k < n; ++k)
+    if (p.lambda[k] != 0.0) sys_.apply(p.rows[k], k, p.lambda[k], p.bodies);
+  report.residual = sys_.residual(p);
+  return report;
+}
+
+}  // namespace linx::solver

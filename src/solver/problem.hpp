@@ -1,0 +1,42 @@
+// What a constraint solver works on: the rows of one step and a compact state of the bodies
+// (gathered once per step, apart from the rich Body objects).
+#pragma once
+
+#include <linx/row.hpp>
+#include <linx/solver.hpp>
+
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace linx::solver {
+
+/// Compact solver state of one body: inverse mass, world inverse inertia, velocity.
+struct SolverBody {
+  double inv_mass = 0.0;
+  Mat3 inv_inertia = Mat3::Zero();
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
+};
+
+/// The boxed mixed LCP of one step (DESIGN.md section 3):
+///   w = A lambda + b,  A = J M^-1 J^T + diag(cfm),  b = J u* - xi,  lo <= lambda <= hi.
+/// On entry the bodies hold u* and lambda an initial guess; on exit the bodies hold
+/// u+ = u* + M^-1 J^T lambda and lambda the solution.
+struct Problem {
+  std::span<const Row> rows;
+  std::span<SolverBody> bodies;
+  std::span<double> lambda;
+  double h = 0.0;
+};
+
+class ConstraintSolver {
+ public:
+  virtual ~ConstraintSolver() = default;
+  virtual SolverReport solve(Problem& problem) = 0;
+};
+
+/// The solver the settings ask for.
+std::unique_ptr<ConstraintSolver> makeSolver(const SolverSettings& settings);
+
+}  // namespace linx::solver

@@ -1,0 +1,60 @@
+#include "world/assembly.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace linx::world {
+
+BodyState stateOf(std::span<const Body> bodies, BodyId id) {
+  if (id.isWorld()) return BodyState{};
+  const Body& b = bodies[static_cast<std::size_t>(id.index)];
+  return BodyState{b.pose(), b.linearVelocity(), b.angularVelocity()};
+}
+
+namespace {
+int solverIndex(std::span<const Body> bodies, BodyId id) {
+  if (id.isWorld() || bodies[static_cast<std::size_t>(id.index)].isStatic()) return -1;
+  return id.index;
+}
+bool finite(const Row& r) {
+  return r.Ja.allFinite() && r.Jb.allFinite() && std::isfinite(r.phi) && std::isfinite(r.speed) &&
+         std::isfinite(r.erp) && std::isfinite(r.cfm) && !std::isnan(r.lo) && !std::isnan(r.hi);
+}
+}  // namespace
+
+void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
+                  const SolverSettings& settings, double h, std::vector<Row>& rows) {
+  // 1. count
+  std::size_t capacity = 0;
+  for (const auto& j : joints) capacity += static_cast<std::size_t>(j->maxRows());
+  // 2. allocate (the vector keeps its capacity across steps: no allocation after warm-up)
+  rows.resize(capacity);
+  // 3. fill
+  std::size_t used = 0;
+  for (std::size_t ji = 0; ji < joints.size(); ++ji) {
+    const Joint& j = *joints[ji];
+    JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
+                     j.def().erp.value_or(settings.erp), j.def().cfm.value_or(settings.cfm)};
+    const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
+    for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
+    const int n = j.fill(ctx, slots);
+    const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());
+    for (int k = 0; k < n; ++k) {
+      Row& r = slots[static_cast<std::size_t>(k)];
+      r.body_a = a;
+      r.body_b = b;
+      r.key = (static_cast<std::uint64_t>(ji + 1) << 8) | (r.key & 0xff);
+      // 4. verify
+      if (!finite(r))
+        throw std::runtime_error(
+            fmt::format("joint '{}' produced a non-finite constraint row "
+                        "(its bodies' state is no longer finite)",
+                        j.name()));
+    }
+    used += static_cast<std::size_t>(n);
+  }
+  rows.resize(used);
+}
+
+}  // namespace linx::world

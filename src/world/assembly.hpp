@@ -1,0 +1,25 @@
+// Constraint assembly in four moves: count (each joint's maximum), allocate, fill (each joint its
+// own rows, from the bodies' current state), verify (finite rows). The result is one list of rows:
+// the global block-sparse Jacobian with its bias, bounds and cfm.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/solver.hpp>
+
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace linx::world {
+
+/// A joint's state of a body: identity and zero velocity for the world frame.
+BodyState stateOf(std::span<const Body> bodies, BodyId id);
+
+/// Assembles the rows of all joints for a step of length h. Solver body indices are body indices,
+/// -1 for the world and for static bodies. Row keys are unique and stable across steps.
+/// Throws std::runtime_error naming the joint if it produces a non-finite row.
+void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
+                  const SolverSettings& settings, double h, std::vector<Row>& rows);
+
+}  // namespace linx::world

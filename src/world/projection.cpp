@@ -1,0 +1,67 @@
+#include "world/projection.hpp"
+
+#include "dynamics/integrator.hpp"
+#include "solver/exact_solver.hpp"
+#include "world/assembly.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace linx::world {
+
+namespace {
+/// Keeps the rows that carry a position error and makes each remove all of it (erp = 1, h = 1).
+/// Returns the largest error among them.
+double positionalRows(std::vector<Row>& rows) {
+  double err = 0.0;
+  std::erase_if(rows, [&](Row& r) {
+    const bool keep =
+        r.kind == RowKind::Bilateral || (r.kind == RowKind::Unilateral && r.phi < 0.0);
+    if (!keep) return true;
+    err = std::max(err, std::abs(r.phi));
+    r.speed = 0.0;
+    r.erp = 1.0;
+    return false;
+  });
+  return err;
+}
+}  // namespace
+
+double projectPositions(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+                        const SolverSettings& settings) {
+  SolverSettings exact = settings;
+  exact.type = SolverType::Exact;
+  solver::ExactSolver solver(exact);
+  std::vector<Row> rows;
+  std::vector<solver::SolverBody> sb(bodies.size());
+  std::vector<double> lambda;
+
+  double err = 0.0;
+  for (int it = 0; it <= settings.projection_iterations; ++it) {
+    assembleRows(joints, bodies, settings, 1.0, rows);
+    err = positionalRows(rows);
+    if (err <= settings.projection_tolerance || it == settings.projection_iterations) break;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const Body& b = bodies[i];
+      sb[i] =
+          solver::SolverBody{b.inverseMass(), b.inverseInertiaWorld(), Vec3::Zero(), Vec3::Zero()};
+    }
+    lambda.assign(rows.size(), 0.0);
+    solver::Problem p{rows, sb, lambda, 1.0};
+    solver.solve(p);
+    // The solve leaves the displacement in the velocity slots: apply it as a unit-time step.
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      Body& b = bodies[i];
+      if (b.isStatic()) continue;
+      const Vec3 v = b.linearVelocity(), w = b.angularVelocity();
+      b.setLinearVelocity(sb[i].v);
+      b.setAngularVelocity(sb[i].w);
+      dynamics::integratePosition(b, 1.0);
+      b.setLinearVelocity(v);
+      b.setAngularVelocity(w);
+    }
+  }
+  return err;
+}
+
+}  // namespace linx::world
