@@ -35,7 +35,7 @@ int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
     for (const bool lower : {true, false}) {
       Row& row = rows[n];
       angularRow(axis, theta, row);
-      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, row)) {
+      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, kAngularLimitMargin, row)) {
         row.key = lower ? kLower : kUpper;
         ++n;
       }

@@ -88,7 +88,7 @@ double rowRate(const Row& row, const BodyState& b1, const BodyState& b2) {
          row.Jb.tail<3>().dot(b2.w);
 }
 
-bool limitRow(const JointContext& ctx, double bound, bool lower, Row& row) {
+bool limitRow(const JointContext& ctx, double bound, bool lower, double margin, Row& row) {
   if (!lower) {  // coordinate <= bound  <=>  -coordinate >= -bound
     row.Ja = -row.Ja;
     row.Jb = -row.Jb;
@@ -97,7 +97,7 @@ bool limitRow(const JointContext& ctx, double bound, bool lower, Row& row) {
   }
   const double gap = row.phi - bound;  // >= 0 when admissible
   const double rate = rowRate(row, ctx.b1, ctx.b2);
-  if (gap > 0.0 && gap + ctx.h * rate >= 0.0) return false;
+  if (gap > margin && gap + ctx.h * rate >= 0.0) return false;
   row.phi = gap;
   row.kind = RowKind::Unilateral;
   row.lo = 0.0;

@@ -51,11 +51,17 @@ void linearRow(const Arms& arms, const Vec3& n, Row& row);
 /// One angular row about the world axis a, C = theta.
 void angularRow(const Vec3& a, double theta, Row& row);
 
-/// Turns a coordinate row (J, phi = coordinate) into a limit row if the coordinate is at or past
-/// `bound`, or will cross it within this step at its current rate; returns whether it did.
-/// A gap still open is closed exactly in one step (speculative), an overshoot removed at the
-/// row's erp. lower: coordinate >= bound; otherwise coordinate <= bound.
-bool limitRow(const JointContext& ctx, double bound, bool lower, Row& row);
+/// Turns a coordinate row (J, phi = coordinate) into a limit row if the coordinate is within
+/// `margin` of `bound` or past it, or will cross it within this step at its current rate; returns
+/// whether it did. A gap still open is closed exactly in one step at most (speculative: such a row
+/// never pushes before the bound is reached), an overshoot is removed at the row's erp.
+/// The margin keeps the row while the coordinate rests on its bound: other rows (a motor) can
+/// drive it within the solve, which the unconstrained rate does not show.
+/// lower: coordinate >= bound; otherwise coordinate <= bound.
+bool limitRow(const JointContext& ctx, double bound, bool lower, double margin, Row& row);
+/// Margins of limitRow: within reach of a step, small against any useful range of motion.
+inline constexpr double kLinearLimitMargin = 1e-3;   ///< (m)
+inline constexpr double kAngularLimitMargin = 2e-2;  ///< (rad)
 /// Turns a coordinate row into a velocity motor row: J u = target, |lambda| <= h max_force.
 void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row);
 

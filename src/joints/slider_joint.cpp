@@ -41,7 +41,7 @@ int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
     for (const bool lower : {true, false}) {
       Row& row = rows[n_rows];
       linearRow(arms, n, row);
-      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, row)) {
+      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, kLinearLimitMargin, row)) {
         row.key = lower ? kLower : kUpper;
         ++n_rows;
       }
