@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds linx and runs the demo scene: a planar slider-crank driven by
+# a hinge motor. Usage: scripts/demo.sh [SCENE.json] [OUT_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+scene=${1:-examples/slider_crank.json}
+out=${2:-out/$(basename "$scene" .json)}
+
+scripts/install-deps.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DLINX_BUILD_TESTS=OFF >/dev/null
+cmake --build build --target linx_cli
+build/linx run "$scene" --out "$out"
+echo "demo: $scene simulated; trajectory in $out/bodies.csv, joints in $out/joints.csv, energies in $out/world.csv"

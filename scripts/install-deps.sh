@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs the Debian packages linx needs to build and test, only those missing.
+# Usage: scripts/install-deps.sh [--peers]   (--peers adds ODE, Bullet and MuJoCo for bench/)
+set -euo pipefail
+
+packages=(build-essential cmake ninja-build pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
+          libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev)
+if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [[ ${#missing[@]} -eq 0 ]]; then exit 0; fi
+
+echo "linx: installing ${missing[*]}" >&2
+sudo=()
+if [[ $(id -u) -ne 0 ]]; then sudo=(sudo); fi
+"${sudo[@]}" apt-get update -qq
+DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

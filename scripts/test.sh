@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds linx and runs the whole test suite twice: a plain optimized
+# build, then AddressSanitizer + UndefinedBehaviorSanitizer.
+# Usage: scripts/test.sh [--plain | --sanitize]   (default: both)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+mode=${1:-all}
+jobs=$(nproc)
+scripts/install-deps.sh
+
+run() {  # run BUILD_DIR CMAKE_ARGS...
+  local dir=$1
+  shift
+  cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
+  cmake --build "$dir" -j "$jobs"
+  ctest --test-dir "$dir" -j "$jobs" --output-on-failure
+}
+
+if [[ $mode == all || $mode == --plain ]]; then
+  echo "== plain (Release) =="
+  run build -DCMAKE_BUILD_TYPE=Release
+fi
+if [[ $mode == all || $mode == --sanitize ]]; then
+  echo "== AddressSanitizer + UBSan =="
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    run build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLINX_SANITIZE=ON
+fi

@@ -1,0 +1,75 @@
+// Ball-and-socket joint: a conical pendulum against its closed form, and the joint's readouts.
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+namespace linx {
+namespace {
+
+TEST(Ball, ConicalPendulumKeepsItsHeightAndRate) {
+  // A small dense sphere (the lumped mass) on a 1 m massless link at theta = 30 degrees from the
+  // downward vertical circles at constant height when w^2 = g / (L cos theta).
+  const double L = 1.0, theta = std::numbers::pi / 6, g = 9.81;
+  const double w = std::sqrt(g / (L * std::cos(theta)));
+  WorldSettings s;
+  s.timestep = 1e-3;
+  World world(s);
+  BodyDef bob;
+  bob.name = "bob";
+  bob.mass = 1.0;
+  bob.inertia = Mat3::Identity() * (2.0 / 5.0 * 0.01 * 0.01);
+  bob.position = Vec3(L * std::sin(theta), 0, -L * std::cos(theta));
+  bob.linear_velocity = Vec3(0, w * L * std::sin(theta), 0);
+  bob.angular_velocity = Vec3(0, 0, w);  // turning with the link
+  const BodyId id = world.createBody(bob);
+  const JointId j = world.createJoint("ball", JointDef{.name = "socket", .body1 = id});
+  EXPECT_NEAR(*world.jointCoordinate(j), 0.0, 1e-15);
+
+  const double period = 2 * std::numbers::pi / w;
+  double worst_height = 0.0, worst_err = 0.0;
+  while (world.time() < period - 1e-9) {
+    world.step();
+    worst_height =
+        std::max(worst_height, std::abs(world.body(id).position().z() + L * std::cos(theta)));
+    worst_err = std::max(worst_err, world.jointError(j));
+  }
+  const Vec3 x = world.body(id).position();
+  std::printf("one revolution: height %.2e m, back at start %.2e m, joint error %.2e m\n",
+              worst_height, (x - bob.position).norm(), worst_err);
+  // Semi-implicit Euler on a circular orbit: the radius and rate err by O(h w) ~ 3e-3 relative at
+  // most over a revolution; the height, a second-order effect, much less.
+  EXPECT_LT(worst_height, 1e-3);
+  EXPECT_LT((x - bob.position).norm(), 1e-2);
+  EXPECT_LT(worst_err, 1e-4);
+  // After one revolution about z, the body has turned by 2 pi: a relative rotation of zero.
+  EXPECT_LT(*world.jointCoordinate(j), 1e-2);
+}
+
+TEST(Ball, FreeChainConservesMomentumAndEnergyScale) {
+  // Two bodies joined by a ball joint, no gravity, thrown: linear momentum exactly conserved
+  // (internal forces), kinetic energy not gained (velocity-level constraints only dissipate).
+  WorldSettings s;
+  s.gravity.setZero();
+  World w(s);
+  BodyDef a = test::boxBody("a", 1.0, Vec3(0.5, 0.1, 0.1), Vec3(0, 0, 0));
+  BodyDef b = test::boxBody("b", 3.0, Vec3(0.5, 0.1, 0.1), Vec3(0.5, 0, 0));
+  a.linear_velocity = Vec3(0, 1, 0);
+  a.angular_velocity = Vec3(1, 0, 2);
+  b.linear_velocity = Vec3(0, -0.5, 0.2);
+  const BodyId ia = w.createBody(a), ib = w.createBody(b);
+  w.createJoint("ball",
+                JointDef{.name = "j", .body1 = ib, .body2 = ia, .anchor = Vec3(0.25, 0, 0)});
+  w.step();  // the first step removes the approaching velocity of the anchors
+  const Vec3 p0 = w.body(ia).linearVelocity() * 1.0 + w.body(ib).linearVelocity() * 3.0;
+  const double e0 = w.energy().kinetic;
+  for (int i = 0; i < 2000; ++i) w.step();
+  const Vec3 p1 = w.body(ia).linearVelocity() * 1.0 + w.body(ib).linearVelocity() * 3.0;
+  EXPECT_LT((p1 - p0).norm(), 1e-12);
+  EXPECT_LE(w.energy().kinetic, e0 * (1 + 1e-9));
+  EXPECT_GT(w.energy().kinetic, 0.9 * e0);
+}
+
+}  // namespace
+}  // namespace linx
