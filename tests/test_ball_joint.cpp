@@ -73,3 +73,48 @@ TEST(Ball, FreeChainConservesMomentumAndEnergyScale) {
 
 }  // namespace
 }  // namespace linx
+
+namespace linx {
+namespace {
+
+// Per-joint erp and cfm turn a joint into a spring-damper of stiffness k and damping c. For the
+// impulse-level rows of linx the mapping is erp = h k / (h k + c), cfm = 1 / (h (h k + c)):
+// at rest the row then holds lambda = -h k phi, the impulse of the spring force -k phi.
+TEST(Ball, SoftJointFromErpAndCfmIsASpringDamper) {
+  const double m = 2.0, k = 5000.0, c = 20.0, g = 9.81, h = 1e-3;
+  WorldSettings s;
+  s.timestep = h;
+  World w(s);
+  BodyDef d = test::boxBody("weight", m, Vec3(0.1, 0.1, 0.1), Vec3(0, 0, -0.5));
+  const BodyId id = w.createBody(d);
+  w.createJoint("ball", JointDef{.name = "spring",
+                                 .body1 = id,
+                                 .anchor = Vec3(0, 0, -0.5),
+                                 .erp = h * k / (h * k + c),
+                                 .cfm = 1.0 / (h * (h * k + c))});
+  // Released at the unstretched length: it oscillates about the static sag m g / k at
+  // sqrt(k / m) (damping ratio c / (2 sqrt(k m)) = 0.1) and settles there.
+  std::vector<double> t, y;
+  for (int i = 0; i < 3000; ++i) {
+    w.step();
+    t.push_back(w.time());
+    y.push_back(w.body(id).position().z() + 0.5 + m * g / k);
+  }
+  const auto crossings = test::upwardCrossings(t, y);
+  ASSERT_GE(crossings.size(), 3u);
+  const double period = crossings[2] - crossings[1];
+  const double wn = std::sqrt(k / m), zeta = c / (2 * std::sqrt(k * m));
+  const double damped = 2 * std::numbers::pi / (wn * std::sqrt(1 - zeta * zeta));
+  for (int i = 0; i < 5000; ++i) w.step();
+  const double sag = -0.5 - w.body(id).position().z();
+  std::printf("sag %.6e m (m g / k = %.6e), period %.5f s (damped closed form %.5f s)\n", sag,
+              m * g / k, period, damped);
+  EXPECT_NEAR(sag, m * g / k, 1e-9);           // exact at rest: lambda = -h k phi
+  EXPECT_NEAR(period, damped, 0.01 * damped);  // implicit-in-time spring: O(h w) phase
+  const SoftRow soft = springDamper(k, c, h);
+  EXPECT_DOUBLE_EQ(soft.erp, h * k / (h * k + c));
+  EXPECT_DOUBLE_EQ(soft.cfm, 1.0 / (h * (h * k + c)));
+}
+
+}  // namespace
+}  // namespace linx

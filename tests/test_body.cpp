@@ -148,3 +148,23 @@ TEST(Body, GyroscopicStepIsTheImplicitMidpointRule) {
 
 }  // namespace
 }  // namespace linx
+
+namespace linx {
+namespace {
+
+TEST(Body, SubstepsSplitTheStepAndTheClockStaysExact) {
+  // With k substeps a step of h is k steps of h/k: x_n = x0 + g (h/k)^2 N (N + 1) / 2, N = n k.
+  WorldSettings s;
+  s.timestep = 1e-2;
+  s.solver.substeps = 4;
+  World w(s);
+  const BodyId id = w.createBody(test::boxBody("b", 1.0, Vec3(0.1, 0.1, 0.1), Vec3::Zero()));
+  for (int i = 0; i < 100; ++i) w.step();
+  const double hs = s.timestep / 4, big_n = 400;
+  EXPECT_NEAR(w.body(id).position().z(), -9.81 * hs * hs * big_n * (big_n + 1) / 2, 1e-12);
+  EXPECT_EQ(w.time(), 1.0);  // 100 steps of 0.01 s, with no accumulated round-off
+  EXPECT_EQ(w.stepCount(), 100);
+}
+
+}  // namespace
+}  // namespace linx

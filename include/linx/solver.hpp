@@ -35,4 +35,15 @@ struct SolverReport {
 
 std::string_view solverTypeName(SolverType type);
 
+/// Error reduction and constraint force mixing that make a row a spring-damper.
+struct SoftRow {
+  double erp = 0.0;
+  double cfm = 0.0;
+};
+
+/// The erp and cfm under which a row acts as a spring of stiffness k (N/m or N m/rad) with a
+/// damper c (N s/m or N m s/rad) at step h (s): erp = h k / (h k + c), cfm = 1 / (h (h k + c)).
+/// (linx's rows carry impulses, hence the 1/h on cfm against the force-level form.)
+SoftRow springDamper(double stiffness, double damping, double h);
+
 }  // namespace linx

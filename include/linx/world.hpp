@@ -83,6 +83,8 @@ class World {
   std::vector<std::unique_ptr<Joint>> joints_;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
+  double clock_origin_ = 0.0, clock_step_ = 0.0;  // time_ = origin + clock_steps_ * clock_step_
+  std::int64_t clock_steps_ = 0;
   SolverReport report_;
   std::unique_ptr<Impl> impl_;  // solver state kept across steps (warm start, work buffers)
 };

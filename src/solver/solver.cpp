@@ -9,6 +9,11 @@ std::string_view solverTypeName(SolverType type) {
   return type == SolverType::Exact ? "exact" : "pgs";
 }
 
+SoftRow springDamper(double stiffness, double damping, double h) {
+  const double d = h * stiffness + damping;
+  return SoftRow{h * stiffness / d, 1.0 / (h * d)};
+}
+
 namespace solver {
 std::unique_ptr<ConstraintSolver> makeSolver(const SolverSettings& settings) {
   if (settings.type == SolverType::Pgs) return std::make_unique<PgsSolver>(settings);

@@ -111,8 +111,14 @@ void World::step() {
   const int substeps = std::max(1, settings_.solver.substeps);
   for (int s = 0; s < substeps; ++s) substep(h / substeps);
   for (Body& b : bodies_) b.clearLoads();
-  time_ += h;
   ++steps_;
+  // Time as a multiple of the step since the step last changed: no round-off accumulates.
+  if (h != clock_step_) {
+    clock_origin_ = time_;
+    clock_step_ = h;
+    clock_steps_ = 0;
+  }
+  time_ = clock_origin_ + static_cast<double>(++clock_steps_) * h;
   for (const Body& b : bodies_) {
     if (!b.position().allFinite() || !b.orientation().coeffs().allFinite() ||
         !b.linearVelocity().allFinite() || !b.angularVelocity().allFinite())

@@ -1,0 +1,140 @@
+// CSV trajectory and report writer. Rows go to hidden temporary files (DIR/.bodies.csv.tmp, ...)
+// that commit() renames to their final names; without a commit the temporary files, and any
+// directory the recorder created, are removed. Numbers are written in the shortest form that reads
+// back to the same double (full precision).
+#include <linx/recorder.hpp>
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cerrno>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+namespace linx {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum Output { kBodies, kJoints, kWorld, kOutputCount };
+
+constexpr std::array<std::string_view, kOutputCount> kFileNames = {"bodies.csv", "joints.csv",
+                                                                   "world.csv"};
+constexpr std::array<std::string_view, kOutputCount> kHeaders = {
+    "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz",
+    "time,joint,coordinate,error",
+    "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual",
+};
+
+// A name as one CSV field: quoted when it holds a separator, a quote or a line break.
+std::string csvField(std::string_view text) {
+  if (text.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(text);
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + '"';
+}
+
+std::runtime_error ioError(std::string_view what, const fs::path& path, int error) {
+  return std::runtime_error(
+      fmt::format("cannot {} {}: {}", what, path.string(), std::generic_category().message(error)));
+}
+
+}  // namespace
+
+struct Recorder::Files {
+  std::array<std::FILE*, kOutputCount> file{};
+  std::array<fs::path, kOutputCount> temp;
+  std::vector<fs::path> created_dirs;  // innermost first
+  bool keep = false;
+
+  // Closes the files; without a commit also deletes them and the directories created for them.
+  ~Files() {
+    for (std::FILE* f : file) {
+      if (f) std::fclose(f);
+    }
+    if (keep) return;
+    std::error_code ignored;
+    for (const fs::path& p : temp) fs::remove(p, ignored);
+    for (const fs::path& d : created_dirs) fs::remove(d, ignored);  // only removes empty ones
+  }
+};
+
+Recorder::Recorder(const fs::path& dir) : dir_(dir), files_(std::make_unique<Files>()) {
+  // Note which directories are missing, so that a run without a commit leaves no trace.
+  std::error_code ec;
+  for (fs::path d = fs::absolute(dir_, ec); !ec && !fs::exists(d, ec) && !ec; d = d.parent_path()) {
+    files_->created_dirs.push_back(d);
+    if (d == d.parent_path()) break;
+  }
+  fs::create_directories(dir_, ec);
+  if (ec || !fs::is_directory(dir_)) {
+    throw ioError("create the output directory", dir_, ec ? ec.value() : ENOTDIR);
+  }
+  for (int i = 0; i < kOutputCount; ++i) {
+    files_->temp[i] = dir_ / fmt::format(".{}.tmp", kFileNames[i]);
+    files_->file[i] = std::fopen(files_->temp[i].c_str(), "wb");
+    if (!files_->file[i]) throw ioError("create", files_->temp[i], errno);
+    fmt::print(files_->file[i], "{}\n", kHeaders[i]);
+  }
+}
+
+Recorder::~Recorder() = default;
+
+void Recorder::record(const World& world) {
+  if (committed_) throw std::logic_error("Recorder::record after commit");
+  const double t = world.time();
+
+  std::FILE* bodies = files_->file[kBodies];
+  for (int i = 0; i < world.bodyCount(); ++i) {
+    const Body& b = world.body(BodyId{i});
+    const Vec3& p = b.position();
+    const Quat& q = b.orientation();
+    const Vec3& v = b.linearVelocity();
+    const Vec3& w = b.angularVelocity();
+    fmt::print(bodies, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", t, csvField(b.name()),
+               p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(), w.x(), w.y(),
+               w.z());
+  }
+
+  std::FILE* joints = files_->file[kJoints];
+  for (int i = 0; i < world.jointCount(); ++i) {
+    const JointId id{i};
+    const std::optional<double> coordinate = world.jointCoordinate(id);
+    fmt::print(joints, "{},{},{},{}\n", t, csvField(world.joint(id).name()),
+               coordinate ? fmt::format("{}", *coordinate) : std::string(), world.jointError(id));
+  }
+
+  const Energy e = world.energy();
+  const SolverReport& report = world.lastReport();
+  fmt::print(files_->file[kWorld], "{},{},{},{},{},{},{}\n", t, e.kinetic, e.potential, e.total(),
+             world.maxJointError(), report.iterations, report.residual);
+}
+
+void Recorder::commit() {
+  if (committed_) return;
+  for (int i = 0; i < kOutputCount; ++i) {
+    std::FILE* f = std::exchange(files_->file[i], nullptr);
+    const bool failed = std::ferror(f) != 0;
+    if (std::fclose(f) != 0 || failed) throw ioError("write", files_->temp[i], errno);
+  }
+  for (int i = 0; i < kOutputCount; ++i) {
+    const fs::path final_path = dir_ / kFileNames[i];
+    std::error_code ec;
+    fs::rename(files_->temp[i], final_path, ec);
+    if (ec) throw ioError("rename to", final_path, ec.value());
+  }
+  files_->keep = true;
+  committed_ = true;
+}
+
+}  // namespace linx

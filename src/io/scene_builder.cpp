@@ -1,0 +1,31 @@
+// Builds a World from a validated Scene: bodies in file order (so BodyId{i} is Scene::bodies[i]),
+// then joints. A definition the engine refuses is reported against its place in the file.
+#include <linx/scene.hpp>
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace linx {
+
+World buildWorld(const Scene& scene) {
+  World world(scene.settings);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    try {
+      world.createBody(scene.bodies[i]);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.file, fmt::format("bodies[{}]", i), e.what());
+    }
+  }
+  for (std::size_t i = 0; i < scene.joints.size(); ++i) {
+    try {
+      world.createJoint(scene.joints[i].type, scene.joints[i].def);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.file, fmt::format("joints[{}]", i), e.what());
+    }
+  }
+  return world;
+}
+
+}  // namespace linx

@@ -1,0 +1,677 @@
+// Reads and validates JSON scene files (docs/scene-format.md). Every problem is reported as a
+// SceneError that names the file, the field's path (`bodies[2].mass`) and what is wrong, and
+// nothing is built until the whole file has been checked.
+#include <linx/scene.hpp>
+
+#include <fmt/format.h>
+#include <Eigen/Eigenvalues>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <system_error>
+#include <utility>
+
+namespace linx {
+
+SceneError::SceneError(std::string file, std::string field, std::string problem)
+    : std::runtime_error(field.empty() ? fmt::format("{}: {}", file, problem)
+                                       : fmt::format("{}: {}: {}", file, field, problem)),
+      file_(std::move(file)),
+      field_(std::move(field)),
+      problem_(std::move(problem)) {}
+
+namespace {
+
+using json = nlohmann::json;
+
+std::string childPath(const std::string& parent, std::string_view key) {
+  return parent.empty() ? std::string(key) : fmt::format("{}.{}", parent, key);
+}
+
+std::string itemPath(const std::string& parent, std::size_t index) {
+  return fmt::format("{}[{}]", parent, index);
+}
+
+// Follows the parser through the document so that a duplicate key, or a number too large for a
+// double, can be reported with the path of the field where it happens.
+class PathTracker {
+ public:
+  explicit PathTracker(const std::string& file) : file_(file) {}
+
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        countItem();
+        levels_.push_back({event == json::parse_event_t::array_start, -1, {}, {}});
+        break;
+      case json::parse_event_t::key: {
+        Level& level = levels_.back();
+        level.key = parsed.get<std::string>();
+        if (!level.keys.insert(level.key).second) {
+          throw SceneError(file_, current(), "duplicate key");
+        }
+        break;
+      }
+      case json::parse_event_t::value:
+        countItem();
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        levels_.pop_back();
+        break;
+    }
+    return true;
+  }
+
+  /// Path of the value the parser is reading.
+  std::string current() const {
+    std::string path;
+    for (std::size_t i = 0; i < levels_.size(); ++i) {
+      const Level& level = levels_[i];
+      const bool innermost = i + 1 == levels_.size();
+      if (level.is_array) {
+        // The innermost array's next item has not been counted yet.
+        path = itemPath(path, static_cast<std::size_t>(level.index + (innermost ? 1 : 0)));
+      } else {
+        path = childPath(path, level.key);
+      }
+    }
+    return path;
+  }
+
+ private:
+  struct Level {
+    bool is_array = false;
+    long index = -1;  // arrays: the item being read
+    std::string key;  // objects: the key being read
+    std::set<std::string> keys;
+  };
+
+  void countItem() {
+    if (!levels_.empty() && levels_.back().is_array) ++levels_.back().index;
+  }
+
+  const std::string& file_;
+  std::vector<Level> levels_;
+};
+
+// "a string", "an array", ... for messages about a value of the wrong type.
+std::string describe(const json& value) {
+  switch (value.type()) {
+    case json::value_t::null:
+      return "null";
+    case json::value_t::object:
+      return "an object";
+    case json::value_t::array:
+      return "an array";
+    case json::value_t::string:
+      return "a string";
+    case json::value_t::boolean:
+      return "a boolean";
+    case json::value_t::number_integer:
+    case json::value_t::number_unsigned:
+    case json::value_t::number_float:
+      return "a number";
+    default:
+      return "an unsupported value";
+  }
+}
+
+// Levenshtein distance, to suggest the intended name for a misspelt one.
+std::size_t editDistance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean 'mass'?)" when one of `names` is close to `name`, else "".
+template <typename Names>
+std::string suggestion(std::string_view name, const Names& names) {
+  std::string_view best;
+  std::size_t best_distance = 3;  // suggest only names at most two edits away
+  for (std::string_view candidate : names) {
+    const std::size_t d = editDistance(name, candidate);
+    if (d < best_distance) {
+      best = candidate;
+      best_distance = d;
+    }
+  }
+  return best.empty() ? std::string() : fmt::format(" (did you mean '{}'?)", best);
+}
+
+// A value in the document and its path, for messages.
+struct Node {
+  const json& value;
+  std::string path;
+};
+
+// The fields each joint type takes besides name, type, body1, body2, erp and cfm.
+struct JointFields {
+  std::string_view type;
+  bool anchor_required;  // otherwise it defaults to body1's position
+  bool axis;             // required when used
+  bool limits_and_motor;
+};
+constexpr JointFields kJointFields[] = {
+    {"fixed", false, false, false},
+    {"slider", false, true, true},
+    {"hinge", true, true, true},
+    {"ball", true, false, false},
+};
+
+// Validating readers for each part of the format. Each one fails with the path of the field.
+class Reader {
+ public:
+  explicit Reader(const std::string& file) : file_(file) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+    throw SceneError(file_, path, problem);
+  }
+
+  Scene scene(const json& root) const {
+    const Node node{root, ""};
+    if (!root.is_object())
+      fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
+    allowOnly(node, {"gravity", "timestep", "duration", "solver", "bodies", "joints"});
+
+    Scene scene;
+    scene.file = file_;
+    if (auto n = get(node, "gravity")) scene.settings.gravity = vec3(*n);
+    if (auto n = get(node, "timestep")) scene.settings.timestep = positive(*n);
+    if (auto n = get(node, "duration")) scene.duration = positive(*n);
+    if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
+
+    const Node bodies = require(node, "bodies");
+    expectArray(bodies);
+    if (bodies.value.empty()) fail(bodies.path, "must contain at least one body");
+    std::map<std::string, std::size_t> body_index;
+    for (std::size_t i = 0; i < bodies.value.size(); ++i) {
+      const Node item{bodies.value[i], itemPath(bodies.path, i)};
+      BodyDef def = body(item);
+      const auto [it, inserted] = body_index.emplace(def.name, i);
+      if (!inserted) {
+        fail(childPath(item.path, "name"),
+             fmt::format("duplicate body name '{}' (also bodies[{}])", def.name, it->second));
+      }
+      scene.bodies.push_back(std::move(def));
+    }
+
+    if (auto joints = get(node, "joints")) {
+      expectArray(*joints);
+      std::map<std::string, std::size_t> joint_index;
+      for (std::size_t i = 0; i < joints->value.size(); ++i) {
+        const Node item{joints->value[i], itemPath(joints->path, i)};
+        SceneJoint joint = this->joint(item, scene.bodies, body_index);
+        const auto [it, inserted] = joint_index.emplace(joint.def.name, i);
+        if (!inserted) {
+          fail(childPath(item.path, "name"),
+               fmt::format("duplicate joint name '{}' (also joints[{}])", joint.def.name,
+                           it->second));
+        }
+        scene.joints.push_back(std::move(joint));
+      }
+    }
+    return scene;
+  }
+
+ private:
+  // --- Structure -------------------------------------------------------------------------------
+
+  void expectObject(const Node& n) const {
+    if (!n.value.is_object())
+      fail(n.path, fmt::format("expected an object, got {}", describe(n.value)));
+  }
+
+  void expectArray(const Node& n) const {
+    if (!n.value.is_array())
+      fail(n.path, fmt::format("expected an array, got {}", describe(n.value)));
+  }
+
+  // Fails on the first key of the object `n` that is not in `allowed`.
+  void allowOnly(const Node& n, std::initializer_list<std::string_view> allowed) const {
+    expectObject(n);
+    for (const auto& [key, value] : n.value.items()) {
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+        fail(childPath(n.path, key), "unknown field" + suggestion(key, allowed));
+      }
+    }
+  }
+
+  std::optional<Node> get(const Node& object, std::string_view key) const {
+    const auto it = object.value.find(key);
+    if (it == object.value.end()) return std::nullopt;
+    return Node{*it, childPath(object.path, key)};
+  }
+
+  Node require(const Node& object, std::string_view key) const {
+    auto n = get(object, key);
+    if (!n) fail(childPath(object.path, key), "missing required field");
+    return *n;
+  }
+
+  // --- Values ----------------------------------------------------------------------------------
+
+  double number(const Node& n) const {
+    if (!n.value.is_number())
+      fail(n.path, fmt::format("expected a number, got {}", describe(n.value)));
+    const double x = n.value.get<double>();
+    if (!std::isfinite(x)) fail(n.path, "number out of range");
+    return x;
+  }
+
+  double positive(const Node& n) const {
+    const double x = number(n);
+    if (!(x > 0)) fail(n.path, fmt::format("must be > 0, got {}", x));
+    return x;
+  }
+
+  double nonNegative(const Node& n) const {
+    const double x = number(n);
+    if (x < 0) fail(n.path, fmt::format("must be >= 0, got {}", x));
+    return x;
+  }
+
+  double unitInterval(const Node& n) const {
+    const double x = number(n);
+    if (x < 0 || x > 1) fail(n.path, fmt::format("must be between 0 and 1, got {}", x));
+    return x;
+  }
+
+  int integer(const Node& n, int min) const {
+    const double x = number(n);
+    if (x != std::floor(x) || x < min || x > std::numeric_limits<int>::max()) {
+      fail(n.path, fmt::format("must be an integer >= {}, got {}", min, n.value.dump()));
+    }
+    return static_cast<int>(x);
+  }
+
+  bool boolean(const Node& n) const {
+    if (!n.value.is_boolean()) {
+      fail(n.path, fmt::format("expected true or false, got {}", describe(n.value)));
+    }
+    return n.value.get<bool>();
+  }
+
+  std::string string(const Node& n) const {
+    if (!n.value.is_string())
+      fail(n.path, fmt::format("expected a string, got {}", describe(n.value)));
+    return n.value.get<std::string>();
+  }
+
+  template <int N>
+  Eigen::Matrix<double, N, 1> vector(const Node& n) const {
+    if (!n.value.is_array() || n.value.size() != N) {
+      fail(n.path, fmt::format("expected an array of {} numbers, got {}", N,
+                               n.value.is_array() ? fmt::format("{} items", n.value.size())
+                                                  : describe(n.value)));
+    }
+    Eigen::Matrix<double, N, 1> v;
+    for (int i = 0; i < N; ++i) v[i] = number({n.value[i], itemPath(n.path, i)});
+    return v;
+  }
+
+  Vec3 vec3(const Node& n) const { return vector<3>(n); }
+
+  // A direction: any non-zero vector, returned normalized.
+  Vec3 direction(const Node& n) const {
+    const Vec3 v = vec3(n);
+    const double length = v.stableNorm();
+    if (!(length > 0)) fail(n.path, "must not be zero");
+    return v / length;
+  }
+
+  // [w, x, y, z], normalized.
+  Quat orientation(const Node& n) const {
+    const Eigen::Vector4d c = vector<4>(n);
+    const double length = c.stableNorm();
+    if (!(length > 0)) fail(n.path, "must not be zero (a rotation quaternion [w, x, y, z])");
+    return Quat(c[0] / length, c[1] / length, c[2] / length, c[3] / length);
+  }
+
+  // Principal moments [Ixx, Iyy, Izz] or a full symmetric positive definite 3x3 matrix.
+  Mat3 inertia(const Node& n) const {
+    if (n.value.is_array() && n.value.size() == 3 && n.value[0].is_array()) {
+      Mat3 m;
+      for (int r = 0; r < 3; ++r) m.row(r) = vec3({n.value[r], itemPath(n.path, r)}).transpose();
+      const double scale = m.cwiseAbs().maxCoeff();
+      if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-12 * scale) {
+        fail(n.path, "the inertia matrix must be symmetric");
+      }
+      m = 0.5 * (m + m.transpose());
+      const Eigen::SelfAdjointEigenSolver<Mat3> eigen(m, Eigen::EigenvaluesOnly);
+      if (!(eigen.eigenvalues().minCoeff() > 0)) {
+        fail(n.path, "the inertia matrix must be positive definite");
+      }
+      return m;
+    }
+    if (n.value.is_array() && n.value.size() == 3) {
+      Vec3 moments;
+      for (int i = 0; i < 3; ++i) moments[i] = positive({n.value[i], itemPath(n.path, i)});
+      return moments.asDiagonal();
+    }
+    fail(n.path, fmt::format("expected [Ixx, Iyy, Izz] or a 3x3 array, got {}",
+                             n.value.is_array() ? fmt::format("{} items", n.value.size())
+                                                : describe(n.value)));
+  }
+
+  // --- Sections --------------------------------------------------------------------------------
+
+  SolverSettings solver(const Node& n) const {
+    allowOnly(n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
+                  "projection", "projection_iterations", "projection_tolerance"});
+    SolverSettings s;
+    if (auto t = get(n, "type")) {
+      const std::string type = string(*t);
+      if (type == "exact") {
+        s.type = SolverType::Exact;
+      } else if (type == "pgs") {
+        s.type = SolverType::Pgs;
+      } else {
+        fail(t->path,
+             fmt::format("unknown solver type '{}' (expected \"exact\" or \"pgs\")", type));
+      }
+    }
+    if (auto v = get(n, "iterations")) s.iterations = integer(*v, 1);
+    if (auto v = get(n, "tolerance")) s.tolerance = nonNegative(*v);
+    if (auto v = get(n, "erp")) s.erp = unitInterval(*v);
+    if (auto v = get(n, "cfm")) s.cfm = nonNegative(*v);
+    if (auto v = get(n, "warm_start")) s.warm_start = boolean(*v);
+    if (auto v = get(n, "sor")) {
+      s.sor = number(*v);
+      if (!(s.sor > 0 && s.sor < 2)) {
+        fail(v->path, fmt::format("must be strictly between 0 and 2, got {}", s.sor));
+      }
+    }
+    if (auto v = get(n, "substeps")) s.substeps = integer(*v, 1);
+    if (auto v = get(n, "projection")) s.projection = boolean(*v);
+    if (auto v = get(n, "projection_iterations")) s.projection_iterations = integer(*v, 1);
+    if (auto v = get(n, "projection_tolerance")) s.projection_tolerance = nonNegative(*v);
+    return s;
+  }
+
+  ShapeDef shape(const Node& n) const {
+    allowOnly(n, {"type", "radius", "size", "length", "position", "orientation"});
+    ShapeDef s;
+    const Node type = require(n, "type");
+    const std::string name = string(type);
+    if (name == "sphere") {
+      s.type = ShapeType::Sphere;
+    } else if (name == "box") {
+      s.type = ShapeType::Box;
+    } else if (name == "capsule") {
+      s.type = ShapeType::Capsule;
+    } else if (name == "cylinder") {
+      s.type = ShapeType::Cylinder;
+    } else {
+      fail(
+          type.path,
+          fmt::format("unknown shape type '{}' (expected sphere, box, capsule or cylinder)", name));
+    }
+    const bool box = s.type == ShapeType::Box;
+    const bool has_length = s.type == ShapeType::Capsule || s.type == ShapeType::Cylinder;
+    for (std::string_view key : {"radius", "size", "length"}) {
+      const bool used = key == "size" ? box : key == "radius" ? !box : has_length;
+      if (!used && n.value.contains(key)) {
+        fail(childPath(n.path, key), fmt::format("not used by a {} shape", name));
+      }
+    }
+    if (box) {
+      const Node size = require(n, "size");
+      const Vec3 lengths = vec3(size);
+      for (int i = 0; i < 3; ++i) positive({size.value[i], itemPath(size.path, i)});
+      s.size = lengths;
+    } else {
+      s.radius = positive(require(n, "radius"));
+    }
+    if (has_length) {
+      const Node length = require(n, "length");
+      // A capsule of length 0 is a sphere; a cylinder needs a length.
+      s.length = s.type == ShapeType::Capsule ? nonNegative(length) : positive(length);
+    }
+    if (auto v = get(n, "position")) s.position = vec3(*v);
+    if (auto v = get(n, "orientation")) s.orientation = orientation(*v);
+    return s;
+  }
+
+  BodyDef body(const Node& n) const {
+    allowOnly(n, {"name", "mass", "inertia", "position", "orientation", "linear_velocity",
+                  "angular_velocity", "static", "shapes"});
+    BodyDef b;
+    const Node name = require(n, "name");
+    b.name = string(name);
+    if (b.name.empty()) fail(name.path, "must not be empty");
+    if (b.name == "world") fail(name.path, "'world' is reserved for the fixed world frame");
+
+    if (auto v = get(n, "static")) b.is_static = boolean(*v);
+    if (auto v = get(n, "position")) b.position = vec3(*v);
+    if (auto v = get(n, "orientation")) b.orientation = orientation(*v);
+    for (std::string_view key : {"linear_velocity", "angular_velocity"}) {
+      auto v = get(n, key);
+      if (!v) continue;
+      const Vec3 velocity = vec3(*v);
+      if (b.is_static && !velocity.isZero(0)) fail(v->path, "a static body cannot move");
+      (key == "linear_velocity" ? b.linear_velocity : b.angular_velocity) = velocity;
+    }
+    if (auto shapes = get(n, "shapes")) {
+      expectArray(*shapes);
+      for (std::size_t i = 0; i < shapes->value.size(); ++i) {
+        b.shapes.push_back(shape({shapes->value[i], itemPath(shapes->path, i)}));
+      }
+    }
+
+    // Static bodies never move: their mass and inertia are checked when given, never needed.
+    const auto mass = get(n, "mass");
+    if (mass) {
+      b.mass = positive(*mass);
+    } else if (!b.is_static) {
+      fail(childPath(n.path, "mass"), "missing required field");
+    }
+    if (auto v = get(n, "inertia")) {
+      b.inertia = inertia(*v);
+    } else if (!b.shapes.empty()) {
+      b.inertia = shapeInertia(b.shapes.front(), b.mass);
+    } else if (!b.is_static) {
+      fail(childPath(n.path, "inertia"),
+           "missing required field (give the inertia, or a shape to compute it from)");
+    }
+    return b;
+  }
+
+  SceneJoint joint(const Node& n, const std::vector<BodyDef>& bodies,
+                   const std::map<std::string, std::size_t>& body_index) const {
+    allowOnly(
+        n, {"name", "type", "body1", "body2", "anchor", "axis", "limits", "motor", "erp", "cfm"});
+    SceneJoint joint;
+    JointDef& d = joint.def;
+    const Node name = require(n, "name");
+    d.name = string(name);
+    if (d.name.empty()) fail(name.path, "must not be empty");
+
+    const Node type = require(n, "type");
+    joint.type = string(type);
+    const auto fields = std::find_if(std::begin(kJointFields), std::end(kJointFields),
+                                     [&](const JointFields& f) { return f.type == joint.type; });
+    if (fields == std::end(kJointFields) || !isJointType(joint.type)) {
+      fail(type.path, fmt::format("unknown joint type '{}' (expected fixed, slider, hinge or ball)",
+                                  joint.type));
+    }
+    const auto unused = [&](std::string_view key) {
+      if (n.value.contains(key)) {
+        fail(childPath(n.path, key), fmt::format("not used by a {} joint", joint.type));
+      }
+    };
+
+    const auto bodyRef = [&](const Node& ref) {
+      const std::string body = string(ref);
+      if (body == "world") return kWorldBody;
+      const auto it = body_index.find(body);
+      if (it == body_index.end()) {
+        std::vector<std::string_view> names;
+        for (const auto& entry : body_index) names.push_back(entry.first);
+        fail(ref.path, fmt::format("unknown body '{}'{}", body, suggestion(body, names)));
+      }
+      return BodyId{static_cast<int>(it->second)};
+    };
+    const Node body1 = require(n, "body1");
+    d.body1 = bodyRef(body1);
+    if (d.body1.isWorld()) {
+      fail(body1.path, "must be a body, not the world (the world goes in body2, or leave it out)");
+    }
+    if (auto v = get(n, "body2")) {
+      d.body2 = bodyRef(*v);
+      if (d.body2 == d.body1) fail(v->path, "a joint needs two different bodies");
+    }
+
+    if (fields->anchor_required) {
+      d.anchor = vec3(require(n, "anchor"));
+    } else if (auto v = get(n, "anchor")) {
+      d.anchor = vec3(*v);
+    } else {
+      d.anchor = bodies[static_cast<std::size_t>(d.body1.index)].position;
+    }
+
+    if (fields->axis) {
+      d.axis = direction(require(n, "axis"));
+    } else {
+      unused("axis");
+    }
+
+    if (fields->limits_and_motor) {
+      if (auto v = get(n, "limits")) d.limits = limits(*v);
+      if (auto v = get(n, "motor")) d.motor = motor(*v);
+    } else {
+      unused("limits");
+      unused("motor");
+    }
+    if (auto v = get(n, "erp")) d.erp = unitInterval(*v);
+    if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
+    return joint;
+  }
+
+  JointLimits limits(const Node& n) const {
+    allowOnly(n, {"lower", "upper"});
+    JointLimits l;
+    if (auto v = get(n, "lower")) l.lower = number(*v);
+    if (auto v = get(n, "upper")) l.upper = number(*v);
+    if (l.lower > l.upper) {
+      fail(n.path, fmt::format("lower ({}) is above upper ({})", l.lower, l.upper));
+    }
+    return l;
+  }
+
+  JointMotor motor(const Node& n) const {
+    allowOnly(n, {"target_velocity", "max_force"});
+    JointMotor m;
+    if (auto v = get(n, "target_velocity")) m.target_velocity = number(*v);
+    m.max_force = nonNegative(require(n, "max_force"));
+    return m;
+  }
+
+  // Inertia of a solid shape of mass m about the body origin, in the body frame: the shape's own
+  // inertia about its centre, rotated by its orientation, plus the parallel-axis term.
+  static Mat3 shapeInertia(const ShapeDef& s, double m) {
+    Vec3 moments;  // about the shape's centre, in the shape's frame
+    const double r2 = s.radius * s.radius;
+    switch (s.type) {
+      case ShapeType::Sphere:
+        moments.setConstant(0.4 * m * r2);
+        break;
+      case ShapeType::Box: {
+        const Vec3 l2 = s.size.cwiseProduct(s.size);
+        moments = m / 12.0 * Vec3(l2.y() + l2.z(), l2.x() + l2.z(), l2.x() + l2.y());
+        break;
+      }
+      case ShapeType::Cylinder: {
+        const double side = m * (3.0 * r2 + s.length * s.length) / 12.0;
+        moments = Vec3(side, side, 0.5 * m * r2);
+        break;
+      }
+      case ShapeType::Capsule: {
+        // A cylinder of length L and two hemispherical caps, the mass split by volume; each cap's
+        // centroid is 3r/8 beyond the end of the cylinder.
+        const double L = s.length, r = s.radius;
+        const double cylinder_volume = L, caps_volume = 4.0 / 3.0 * r;  // both divided by pi r^2
+        const double mc = m * cylinder_volume / (cylinder_volume + caps_volume);
+        const double ms = m - mc;
+        const double side =
+            mc * (L * L / 12.0 + r2 / 4.0) + ms * (0.4 * r2 + L * L / 4.0 + 3.0 * L * r / 8.0);
+        moments = Vec3(side, side, 0.5 * mc * r2 + 0.4 * ms * r2);
+        break;
+      }
+    }
+    const Mat3 R = s.orientation.toRotationMatrix();
+    const Vec3& p = s.position;
+    return R * moments.asDiagonal() * R.transpose() +
+           m * (p.squaredNorm() * Mat3::Identity() - p * p.transpose());
+  }
+
+  const std::string& file_;
+};
+
+// nlohmann messages start with "[json.exception.parse_error.101] parse error at ".
+std::string stripPrefix(const std::string& message, std::string_view marker) {
+  const auto at = message.find(marker);
+  if (at != std::string::npos) return message.substr(at + marker.size());
+  const auto bracket = message.find("] ");
+  return bracket == std::string::npos ? message : message.substr(bracket + 2);
+}
+
+}  // namespace
+
+Scene parseScene(std::string_view text, const std::string& file) {
+  json root;
+  PathTracker tracker(file);
+  try {
+    root = json::parse(text.begin(), text.end(),
+                       [&](int depth, json::parse_event_t event, json& parsed) {
+                         return tracker(depth, event, parsed);
+                       });
+  } catch (const json::parse_error& e) {
+    // "line 3, column 5: syntax error while parsing object - unexpected '}'"
+    const std::string rest = stripPrefix(e.what(), "parse error at ");
+    const auto colon = rest.find(": ");
+    if (rest.rfind("line ", 0) == 0 && colon != std::string::npos) {
+      throw SceneError(file, rest.substr(0, colon), rest.substr(colon + 2));
+    }
+    throw SceneError(file, "(json)", rest);
+  } catch (const json::exception& e) {
+    // A number too large for a double: the tracker knows which field it was.
+    const std::string path = tracker.current();
+    throw SceneError(file, path.empty() ? "(json)" : path, stripPrefix(e.what(), "] "));
+  }
+  return Reader(file).scene(root);
+}
+
+Scene loadScene(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw SceneError(file, "", "is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const std::error_code why(errno, std::generic_category());
+    throw SceneError(file, "", fmt::format("cannot open: {}", why.message()));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw SceneError(file, "", "cannot read");
+  return parseScene(text.str(), file);
+}
+
+}  // namespace linx
