@@ -143,6 +143,21 @@ TEST(Hinge, AngularLimitStopsTheSwing) {
   EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), 0.5, 1e-3);  // and rests on it
 }
 
+TEST(Hinge, AngleCountsTurnsAndLimitsMayLieBeyondHalfATurn) {
+  SolverSettings solver;
+  Pendulum p = makeRodPendulum(1.0, solver);
+  p.world.settings().gravity.setZero();
+  // Driven at 2 rad/s for 2 s: 4 rad, past pi, read continuously.
+  p.world.joint(p.hinge).setMotor(JointMotor{.target_velocity = 2.0, .max_force = 1e4});
+  for (int i = 0; i < 2000; ++i) p.world.step();
+  EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), 4.0, 1e-9);
+  // Backwards through zero to -7 rad (more than a turn), then stopped by a limit at -6.5 rad.
+  p.world.joint(p.hinge).setMotor(JointMotor{.target_velocity = -4.0, .max_force = 1e4});
+  p.world.joint(p.hinge).setLimits(JointLimits{.lower = -6.5, .upper = 10.0});
+  for (int i = 0; i < 3000; ++i) p.world.step();
+  EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), -6.5, 1e-9);
+}
+
 TEST(Hinge, MotorHoldsTheTargetSpeedWithinItsTorque) {
   for (const SolverType type : {SolverType::Exact, SolverType::Pgs}) {
     SolverSettings solver;

@@ -72,9 +72,13 @@ class Joint {
   /// Fills rows[0..n) and returns n. Rows arrive with erp/cfm set from the context; bodies and
   /// keys are set by assembly. Row slots are stable: slot i always means the same constraint.
   virtual int fill(const JointContext& ctx, std::span<Row> rows) const = 0;
-  /// The free coordinate (hinge angle in rad, slider position in m), zero at creation; nothing for
-  /// joints without one.
+  /// The joint's coordinate, zero at creation: hinge angle (rad, continuous: it counts turns),
+  /// slider position (m), ball-joint relative rotation angle (rad, >= 0); nothing for a fixed
+  /// joint.
   virtual std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const = 0;
+  /// Called by the world after every (sub)step with the new state, for joints that follow history
+  /// (a hinge counts its turns). Motion between two calls must stay below half a turn.
+  virtual void track(const BodyState& /*b1*/, const BodyState& /*b2*/) {}
   /// Largest position error of the joint's equality rows, and of a violated limit (m or rad).
   virtual double error(const BodyState& b1, const BodyState& b2) const;
 

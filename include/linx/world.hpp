@@ -9,10 +9,29 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 #include <vector>
 
 namespace linx {
+
+/// A numerical fault found by World::step(): a body's state, or a joint's rows, stopped being
+/// finite. what() reads "bodies[i] (NAME): position is not finite after step N (t = T s)", or names
+/// the joint. The world keeps the state in which the fault was found.
+class NonFiniteState : public std::runtime_error {
+ public:
+  NonFiniteState(const std::string& what, int body, std::int64_t step, double time)
+      : std::runtime_error(what), body_(body), step_(step), time_(time) {}
+  int body() const { return body_; }  ///< index of the body, -1 when a joint's rows were at fault
+  std::int64_t step() const { return step_; }
+  double time() const { return time_; }
+
+ private:
+  int body_;
+  std::int64_t step_;
+  double time_;
+};
 
 struct WorldSettings {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< (m/s^2), world frame
@@ -58,7 +77,7 @@ class World {
   std::optional<BodyId> findBody(std::string_view name) const;
   std::optional<JointId> findJoint(std::string_view name) const;
 
-  /// Advances by settings().timestep.
+  /// Advances by settings().timestep. Throws NonFiniteState when the state stops being finite.
   void step();
   double time() const { return time_; }
   std::int64_t stepCount() const { return steps_; }

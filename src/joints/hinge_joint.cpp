@@ -3,12 +3,15 @@
 //   point:  C = (p1 + r1) - (p2 + r2) = 0                      J = [ E, -[r1]x | -E, [r2]x ]
 //   align:  C_j = t_j . (a2 x a1) = 0, t_1, t_2 _|_ a2          J_j = [ 0, t_j | 0, -t_j ]
 //   angle:  theta = twist of q2^-1 q1 q0^-1 about a (body 1 relative to body 2, right-hand rule
-//           about the axis, zero at creation, in (-pi, pi]),   J = [ 0, a | 0, -a ]
+//           about the axis, zero at creation), J = [ 0, a | 0, -a ]; unwrapped onto the branch
+//           nearest the angle of the last step, so it counts turns and limits may lie past +-pi
 //   limits: theta >= lower, theta <= upper (unilateral, only when reached)
 //   motor:  J u = target angular velocity, |lambda| <= h max_torque
 #include "joints/hinge_joint.hpp"
 
 #include "math/rotation.hpp"
+
+#include <cmath>
 
 namespace linx::joints {
 
@@ -20,7 +23,13 @@ HingeJoint::HingeJoint(const JointDef& def, const BodyState& b1, const BodyState
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
 
 std::optional<double> HingeJoint::coordinate(const BodyState& b1, const BodyState& b2) const {
-  return math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2);
+  const double raw = math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2);
+  constexpr double kTurn = 2.0 * M_PI;
+  return raw + kTurn * std::round((last_angle_ - raw) / kTurn);
+}
+
+void HingeJoint::track(const BodyState& b1, const BodyState& b2) {
+  last_angle_ = *coordinate(b1, b2);
 }
 
 int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

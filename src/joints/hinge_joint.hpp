@@ -11,9 +11,11 @@ class HingeJoint final : public Joint {
   int maxRows() const override { return 7; }
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const override;
+  void track(const BodyState& b1, const BodyState& b2) override;
 
  private:
   JointFrames frames_;
+  double last_angle_ = 0.0;  // the angle at the last track(): the branch to unwrap onto
 };
 
 }  // namespace linx::joints

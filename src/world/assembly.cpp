@@ -47,10 +47,9 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
       r.key = (static_cast<std::uint64_t>(ji + 1) << 8) | (r.key & 0xff);
       // 4. verify
       if (!finite(r))
-        throw std::runtime_error(
-            fmt::format("joint '{}' produced a non-finite constraint row "
-                        "(its bodies' state is no longer finite)",
-                        j.name()));
+        throw std::domain_error(
+            fmt::format("joints[{}] ({}): its constraint rows are not finite (degenerate geometry)",
+                        ji, j.name()));
     }
     used += static_cast<std::size_t>(n);
   }

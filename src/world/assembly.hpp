@@ -18,7 +18,7 @@ BodyState stateOf(std::span<const Body> bodies, BodyId id);
 
 /// Assembles the rows of all joints for a step of length h. Solver body indices are body indices,
 /// -1 for the world and for static bodies. Row keys are unique and stable across steps.
-/// Throws std::runtime_error naming the joint if it produces a non-finite row.
+/// Throws std::domain_error naming the joint if it produces a non-finite row.
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                   const SolverSettings& settings, double h, std::vector<Row>& rows);
 

@@ -6,6 +6,7 @@
 //   4. solve        the boxed LCP for lambda, u+ = u* + M^-1 J^T lambda   solver/
 //   5. positions    x += h v+, q = exp(h w+) q                     dynamics/integrator
 //   6. projection   optional post-stabilization of joint errors    world/projection
+//   7. tracking     joints follow their history (a hinge counts turns)
 // then loads are cleared and the state is checked to be finite.
 #include <linx/world.hpp>
 
@@ -119,11 +120,17 @@ void World::step() {
     clock_steps_ = 0;
   }
   time_ = clock_origin_ + static_cast<double>(++clock_steps_) * h;
-  for (const Body& b : bodies_) {
-    if (!b.position().allFinite() || !b.orientation().coeffs().allFinite() ||
-        !b.linearVelocity().allFinite() || !b.angularVelocity().allFinite())
-      throw std::runtime_error(fmt::format("body '{}' has a non-finite state at t = {} s (step {})",
-                                           b.name(), time_, steps_));
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    const char* what = !b.position().allFinite()               ? "position"
+                       : !b.orientation().coeffs().allFinite() ? "orientation"
+                       : !b.linearVelocity().allFinite()       ? "linear velocity"
+                       : !b.angularVelocity().allFinite()      ? "angular velocity"
+                                                               : nullptr;
+    if (what)
+      throw NonFiniteState(fmt::format("bodies[{}] ({}): {} is not finite after step {} (t = {} s)",
+                                       i, b.name(), what, steps_, time_),
+                           static_cast<int>(i), steps_, time_);
   }
 }
 
@@ -132,7 +139,12 @@ void World::substep(double h) {
   // 1. velocities
   for (Body& b : bodies_) dynamics::integrateVelocity(b, settings_.gravity, h);
   // 2. assembly
-  world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
+  try {
+    world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
+  } catch (const std::domain_error& e) {
+    throw NonFiniteState(fmt::format("{} in step {} (t = {} s)", e.what(), steps_ + 1, time_), -1,
+                         steps_ + 1, time_);
+  }
   // 3. warm start
   m.lambda.assign(m.rows.size(), 0.0);
   if (settings_.solver.warm_start) {
@@ -168,6 +180,7 @@ void World::substep(double h) {
   for (Body& b : bodies_) dynamics::integratePosition(b, h);
   // 6. projection
   if (settings_.solver.projection) world::projectPositions(joints_, bodies_, settings_.solver);
+  for (auto& j : joints_) j->track(bodyState(j->body1()), bodyState(j->body2()));
 }
 
 std::optional<double> World::jointCoordinate(JointId id) const {

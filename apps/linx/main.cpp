@@ -1,0 +1,210 @@
+// The `linx` command line (docs/scene-format.md, "Command line"):
+//   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--every N]
+//   linx check SCENE.json
+// Every input is validated before anything is written. Errors are one line on stderr,
+// "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
+// (scene, flags, usage), 3 the simulation state became non-finite, 130 interrupted.
+#include "progress.hpp"
+
+#include <linx/linx.hpp>
+
+#include <fmt/format.h>
+#include <unistd.h>
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#ifndef LINX_VERSION
+#error "LINX_VERSION is set by CMakeLists.txt from project(VERSION)"
+#endif
+
+namespace {
+
+constexpr int kExitFailure = 1;
+constexpr int kExitBadInput = 2;
+constexpr int kExitNonFinite = 3;
+constexpr int kExitInterrupted = 130;
+
+// Runs longer than this are refused: step numbers and times stay exact in a double.
+constexpr double kMaxSteps = 1e15;
+
+// A bad flag value: reported like a scene error, exit status 2.
+class BadInput : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void onSignal(int signal) {
+  g_signal = signal;
+}
+
+struct RunOptions {
+  std::string scene;
+  std::string out;
+  std::optional<double> duration, timestep;
+  int every = 1;
+};
+
+double positiveFlag(const char* flag, double value) {
+  if (!(std::isfinite(value) && value > 0)) {
+    throw BadInput(fmt::format("{}: must be a finite number > 0, got {}", flag, value));
+  }
+  return value;
+}
+
+// The number of steps of a run, round(duration / timestep); at least one.
+std::int64_t stepCount(const linx::Scene& scene, const RunOptions& options) {
+  const double steps = std::round(scene.duration / scene.settings.timestep);
+  if (steps >= 1 && steps <= kMaxSteps) return static_cast<std::int64_t>(steps);
+  const std::string problem =
+      steps < 1 ? fmt::format("{} s is shorter than half a timestep ({} s)", scene.duration,
+                              scene.settings.timestep)
+                : fmt::format("{} s at a timestep of {} s is more than {:g} steps", scene.duration,
+                              scene.settings.timestep, kMaxSteps);
+  if (options.duration || options.timestep) {
+    throw BadInput(fmt::format("{}: {}", options.duration ? "--duration" : "--timestep", problem));
+  }
+  throw linx::SceneError(scene.file, "duration", problem);
+}
+
+struct Prepared {
+  linx::Scene scene;
+  linx::World world;
+  std::int64_t steps;
+};
+
+// Loads the scene, applies the flags and builds the world: everything that can reject the input.
+Prepared prepare(const RunOptions& options) {
+  linx::Scene scene = linx::loadScene(options.scene);
+  if (options.duration) scene.duration = *options.duration;
+  if (options.timestep) scene.settings.timestep = *options.timestep;
+  const std::int64_t steps = stepCount(scene, options);
+  linx::World world = linx::buildWorld(scene);
+  return {std::move(scene), std::move(world), steps};
+}
+
+int check(const RunOptions& options) {
+  const Prepared p = prepare(options);
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return fmt::format("{} {}", n, n == 1 ? one : many);
+  };
+  fmt::print("{}: ok: {}, {}, timestep {} s, duration {} s ({} steps), solver {}\n", options.scene,
+             count(p.scene.bodies.size(), "body", "bodies"),
+             count(p.scene.joints.size(), "joint", "joints"), p.scene.settings.timestep,
+             p.scene.duration, p.steps, linx::solverTypeName(p.scene.settings.solver.type));
+  return 0;
+}
+
+int run(const RunOptions& options) {
+  if (options.every < 1) {
+    throw BadInput(fmt::format("--every: must be at least 1, got {}", options.every));
+  }
+  std::error_code ec;
+  if (std::filesystem::exists(options.out, ec) && !std::filesystem::is_directory(options.out, ec)) {
+    throw BadInput(fmt::format("--out: {}: exists and is not a directory", options.out));
+  }
+  Prepared p = prepare(options);
+  linx::World& world = p.world;
+
+  // Interrupting a run removes its partial output.
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+
+  linx::Recorder recorder(options.out);
+  recorder.record(world);
+  std::int64_t frames = 1;
+  linx::cli::ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr, p.steps,
+                                  p.scene.duration);
+  for (std::int64_t step = 1; step <= p.steps; ++step) {
+    try {
+      world.step();
+    } catch (const linx::NonFiniteState& e) {
+      progress.clear();
+      fmt::print(stderr, "linx: {}: {}; nothing written\n", options.scene, e.what());
+      return kExitNonFinite;
+    }
+    if (step % options.every == 0 || step == p.steps) {
+      recorder.record(world);
+      ++frames;
+    }
+    if (g_signal) {
+      progress.clear();
+      fmt::print(stderr, "linx: {}: interrupted at step {} (t = {} s); nothing written\n",
+                 options.scene, step, world.time());
+      return kExitInterrupted;
+    }
+    progress.update(step, world.time());
+  }
+  progress.clear();
+  recorder.commit();
+  fmt::print("wrote 3 files to {} ({} frames, {} steps, t = {} s)\n", options.out, frames, p.steps,
+             world.time());
+  return 0;
+}
+
+// CLI11 messages may span lines; errors here are one line.
+std::string oneLine(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"linx: rigid multibody dynamics with a unified constraint solver", "linx"};
+  app.set_version_flag("--version", "linx " LINX_VERSION);
+  app.require_subcommand(1);
+  app.footer(
+      "Scene format and outputs: docs/scene-format.md.\n"
+      "Exit status: 0 success, 1 output or internal failure, 2 bad input, 3 non-finite state,\n"
+      "130 interrupted.");
+
+  RunOptions options;
+  double duration = 0, timestep = 0;
+  CLI::App* run_cmd = app.add_subcommand("run", "Simulate a scene and write its trajectory as CSV");
+  run_cmd->add_option("scene", options.scene, "Scene file (JSON)")->required();
+  run_cmd->add_option("-o,--out", options.out, "Output directory (created if needed)")->required();
+  CLI::Option* duration_opt =
+      run_cmd->add_option("--duration", duration, "Simulated time (s), overrides the scene's");
+  CLI::Option* timestep_opt =
+      run_cmd->add_option("--timestep", timestep, "Step length (s), overrides the scene's");
+  run_cmd->add_option("--every", options.every, "Record every N steps (and the last)")
+      ->capture_default_str();
+  CLI::App* check_cmd = app.add_subcommand("check", "Validate a scene and summarize it");
+  check_cmd->add_option("scene", options.scene, "Scene file (JSON)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {  // --help, --version
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "linx: {} (see linx --help)\n", oneLine(e.what()));
+    return kExitBadInput;
+  }
+
+  try {
+    if (duration_opt->count()) options.duration = positiveFlag("--duration", duration);
+    if (timestep_opt->count()) options.timestep = positiveFlag("--timestep", timestep);
+    return *check_cmd ? check(options) : run(options);
+  } catch (const linx::SceneError& e) {
+    fmt::print(stderr, "linx: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const BadInput& e) {
+    fmt::print(stderr, "linx: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "linx: {}: {}\n", options.scene, oneLine(e.what()));
+    return kExitFailure;
+  }
+}

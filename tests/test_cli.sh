@@ -1,0 +1,207 @@
+#!/usr/bin/env bash
+# Tests of the `linx` command line, one case per ctest test:
+#   test_cli.sh LINX EXAMPLES_DIR VERSION CASE
+# Checks exit statuses, the one-line error format "linx: FILE: FIELD: PROBLEM", the CSV headers,
+# and that a rejected or failed run leaves no output behind.
+set -u
+
+linx=$1
+examples=$2
+version=$3
+case_name=$4
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/linx_cli.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+
+fail() {
+  echo "FAIL: $*" >&2
+  echo "--- stdout:" >&2; cat out.txt >&2 2>/dev/null
+  echo "--- stderr:" >&2; cat err.txt >&2 2>/dev/null
+  exit 1
+}
+
+# expect STATUS CMD...: runs CMD with stdout in out.txt and stderr in err.txt.
+expect() {
+  local want=$1
+  shift
+  "$@" >out.txt 2>err.txt
+  local got=$?
+  [ "$got" -eq "$want" ] || fail "'$*' exited with $got, expected $want"
+}
+
+# The error is exactly one line and starts with the given text.
+expect_error_line() {
+  [ "$(wc -l <err.txt)" -eq 1 ] || fail "expected one line on stderr"
+  case "$(cat err.txt)" in
+    "$1"*) ;;
+    *) fail "stderr does not start with '$1'" ;;
+  esac
+}
+
+expect_no_output_dir() {
+  [ ! -e "$1" ] || fail "$1 exists: $(ls -A "$1")"
+}
+
+# A valid one-body scene: a pendulum bob, used as the base of the bad ones.
+cat >good.json <<'EOF'
+{
+  "duration": 0.01,
+  "bodies": [{"name": "bob", "mass": 1, "position": [1, 0, 0],
+              "shapes": [{"type": "sphere", "radius": 0.05}]}],
+  "joints": [{"name": "pivot", "type": "hinge", "body1": "bob", "anchor": [0, 0, 0],
+              "axis": [0, 1, 0]}]
+}
+EOF
+
+case "$case_name" in
+  version)
+    expect 0 "$linx" --version
+    [ "$(cat out.txt)" = "linx $version" ] || fail "--version printed '$(cat out.txt)'"
+    ;;
+
+  usage)
+    expect 0 "$linx" --help
+    grep -q "run" out.txt || fail "--help does not list the run command"
+    expect 2 "$linx"
+    expect_error_line "linx: "
+    expect 2 "$linx" simulate good.json
+    expect_error_line "linx: "
+    expect 2 "$linx" run good.json
+    expect_error_line "linx: --out is required"
+    expect 2 "$linx" run good.json --out out --every two
+    expect_error_line "linx: "
+    expect 2 "$linx" run good.json --out out --bogus
+    expect_error_line "linx: "
+    expect_no_output_dir out
+    ;;
+
+  check_examples)
+    for scene in "$examples"/*.json; do
+      expect 0 "$linx" check "$scene"
+      grep -q "^$scene: ok: .* bod.*, .* joint.*, timestep .* s, duration .* s (.* steps), solver " out.txt ||
+        fail "unexpected summary for $scene"
+    done
+    expect 0 "$linx" check good.json
+    [ "$(cat out.txt)" = "good.json: ok: 1 body, 1 joint, timestep 0.001 s, duration 0.01 s (10 steps), solver exact" ] ||
+      fail "unexpected summary"
+    ;;
+
+  run_pendulum)
+    expect 0 "$linx" run "$examples/pendulum.json" --out out --duration 0.05
+    [ -s err.txt ] && fail "stderr is not a terminal: no progress bar expected"
+    [ "$(cat out.txt)" = "wrote 3 files to out (51 frames, 50 steps, t = $(awk -F, 'END {print $1}' out/world.csv) s)" ] ||
+      fail "unexpected summary line"
+    # shellcheck disable=SC2012  # plain file names
+    [ "$(ls -A out | tr '\n' ' ')" = "bodies.csv joints.csv world.csv " ] || fail "unexpected files: $(ls -A out)"
+    [ "$(head -n 1 out/bodies.csv)" = "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz" ] || fail "bodies.csv header"
+    [ "$(head -n 1 out/joints.csv)" = "time,joint,coordinate,error" ] || fail "joints.csv header"
+    [ "$(head -n 1 out/world.csv)" = "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual" ] ||
+      fail "world.csv header"
+    for f in bodies joints world; do
+      [ "$(wc -l <out/$f.csv)" -eq 52 ] || fail "$f.csv: expected a header and 51 frames"
+    done
+    [ "$(sed -n 2p out/bodies.csv)" = "0,bob,1,0,0,1,0,0,0,0,0,0,0,0,0" ] || fail "initial state row"
+    [ "$(sed -n 2p out/joints.csv)" = "0,pivot,0,0" ] || fail "initial joint row"
+
+    # --every 20 over 50 steps: t = 0, steps 20 and 40, and the last step.
+    expect 0 "$linx" run good.json --out every --duration 0.05 --timestep 0.001 --every 20
+    [ "$(wc -l <every/world.csv)" -eq 5 ] || fail "--every 20: expected 4 frames"
+    grep -q "(4 frames, 50 steps," out.txt || fail "--every 20: summary"
+    ;;
+
+  bad_scenes)
+    printf '{"bodies": [{"name": "bob", "mas": 1}]}' >unknown.json
+    printf '{\n  "bodies": [\n    {"name": "bob",}\n  ]\n}\n' >syntax.json
+    printf '{"bodies": [{"name": "bob", "mass": 1e999, "inertia": [1, 1, 1]}]}' >overflow.json
+    sed 's/"body1": "bob"/"body1": "bobb"/' good.json >nobody.json
+    sed 's/"axis": \[0, 1, 0\]/"axis": [0, 0, 0]/' good.json >zeroaxis.json
+    sed 's/"duration": 0.01/"duration": 0.0001/' good.json >tooshort.json
+    for spec in \
+      "unknown.json|linx: unknown.json: bodies[0].mas: unknown field (did you mean 'mass'?)" \
+      "syntax.json|linx: syntax.json: line 3, column 20: syntax error" \
+      "overflow.json|linx: overflow.json: bodies[0].mass: " \
+      "nobody.json|linx: nobody.json: joints[0].body1: unknown body 'bobb' (did you mean 'bob'?)" \
+      "zeroaxis.json|linx: zeroaxis.json: joints[0].axis: must not be zero" \
+      "tooshort.json|linx: tooshort.json: duration: 0.0001 s is shorter than half a timestep"; do
+      scene=${spec%%|*}
+      message=${spec#*|}
+      expect 2 "$linx" run "$scene" --out "out_$scene"
+      expect_error_line "$message"
+      expect_no_output_dir "out_$scene"
+      expect 2 "$linx" check "$scene"
+      expect_error_line "$message"
+    done
+    ;;
+
+  bad_flags)
+    for flags in "--every 0" "--every -3" "--timestep -1" "--timestep=-1" "--timestep 0" \
+      "--duration nan" "--duration inf" "--duration 0" "--duration 0.0001"; do
+      # shellcheck disable=SC2086
+      expect 2 "$linx" run good.json --out out $flags
+      expect_error_line "linx: --"
+      expect_no_output_dir out
+    done
+    expect 2 "$linx" run good.json --out out --every 0
+    [ "$(cat err.txt)" = "linx: --every: must be at least 1, got 0" ] || fail "--every message"
+    expect 2 "$linx" run good.json --out out --timestep=-1
+    [ "$(cat err.txt)" = "linx: --timestep: must be a finite number > 0, got -1" ] || fail "--timestep message"
+    echo "not a directory" >taken
+    expect 2 "$linx" run good.json --out taken
+    expect_error_line "linx: --out: taken: exists and is not a directory"
+    ;;
+
+  missing_file)
+    expect 2 "$linx" run missing.json --out out
+    expect_error_line "linx: missing.json: cannot open: No such file or directory"
+    expect_no_output_dir out
+    expect 2 "$linx" check missing.json
+    expect_error_line "linx: missing.json: cannot open"
+    mkdir adir
+    expect 2 "$linx" check adir
+    expect_error_line "linx: adir: is a directory"
+    ;;
+
+  non_finite)
+    # A free body fast enough that its position overflows to infinity at the third step.
+    cat >runaway.json <<'EOF'
+{
+  "gravity": [0, 0, 0], "timestep": 0.5, "duration": 2,
+  "bodies": [{"name": "runaway", "mass": 1, "inertia": [1, 1, 1],
+              "linear_velocity": [1.5e308, 0, 0]}]
+}
+EOF
+    expect 3 "$linx" run runaway.json --out out
+    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); nothing written"
+    expect_no_output_dir out
+    # An existing directory keeps its earlier results.
+    mkdir kept && echo "earlier" >kept/bodies.csv
+    expect 3 "$linx" run runaway.json --out kept
+    if [ "$(ls -A kept)" != "bodies.csv" ] || [ "$(cat kept/bodies.csv)" != "earlier" ]; then
+      fail "a failed run changed the output directory"
+    fi
+    ;;
+
+  interrupt)
+    # A long run, interrupted once its temporary files exist: it stops and removes them.
+    "$linx" run "$examples/hinge_chain.json" --out out --duration 1000 >out.txt 2>err.txt &
+    pid=$!
+    for _ in $(seq 100); do
+      [ -e out/.bodies.csv.tmp ] && break
+      sleep 0.1
+    done
+    [ -e out/.bodies.csv.tmp ] || fail "the run did not start"
+    kill -INT "$pid"
+    wait "$pid"
+    status=$?
+    [ "$status" -eq 130 ] || fail "interrupted run exited with $status, expected 130"
+    expect_error_line "linx: $examples/hinge_chain.json: interrupted at step "
+    expect_no_output_dir out
+    ;;
+
+  *)
+    echo "unknown case $case_name" >&2
+    exit 1
+    ;;
+esac
+echo "ok: $case_name"

@@ -1,0 +1,621 @@
+// Scene files (docs/scene-format.md): valid scenes become the right definitions, every kind of
+// mistake is reported with the path of the field and what is wrong, and the example scenes load
+// and build.
+#include <linx/scene.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using nlohmann::json;
+
+// A small valid scene that the error cases edit.
+json baseScene() {
+  return json::parse(R"({
+    "bodies": [
+      {"name": "a", "mass": 2, "inertia": [1, 2, 3], "position": [1, 0, 0]},
+      {"name": "b", "mass": 1, "shapes": [{"type": "sphere", "radius": 0.5}]}
+    ],
+    "joints": [
+      {"name": "h", "type": "hinge", "body1": "a", "body2": "b", "anchor": [0, 0, 0],
+       "axis": [0, 0, 2]}
+    ]
+  })");
+}
+
+linx::Scene parse(const json& scene) {
+  return linx::parseScene(scene.dump(), "scene.json");
+}
+
+// The error parsing `text` raises (and a test failure when there is none).
+linx::SceneError errorOf(const std::string& text) {
+  try {
+    linx::parseScene(text, "scene.json");
+  } catch (const linx::SceneError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no error for: " << text;
+  return linx::SceneError("", "", "");
+}
+
+struct Case {
+  std::function<void(json&)> edit;  // applied to baseScene()
+  std::string field;
+  std::string problem;  // a substring of the message
+};
+
+void expectErrors(const std::vector<Case>& cases) {
+  for (const Case& c : cases) {
+    json scene = baseScene();
+    c.edit(scene);
+    SCOPED_TRACE(scene.dump());
+    const linx::SceneError e = errorOf(scene.dump());
+    EXPECT_EQ(e.file(), "scene.json");
+    EXPECT_EQ(e.field(), c.field);
+    EXPECT_NE(e.problem().find(c.problem), std::string::npos) << "problem: " << e.problem();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Valid scenes
+
+TEST(SceneRead, DefaultsOfAMinimalScene) {
+  const linx::Scene s =
+      parse(json::parse(R"({"bodies": [{"name": "a", "mass": 1, "inertia": [1, 1, 1]}]})"));
+  const linx::WorldSettings defaults;
+  EXPECT_EQ(s.file, "scene.json");
+  EXPECT_EQ(s.settings.gravity, linx::Vec3(0, 0, -9.81));
+  EXPECT_EQ(s.settings.timestep, 0.001);
+  EXPECT_EQ(s.duration, 1.0);
+  EXPECT_EQ(s.settings.solver.type, defaults.solver.type);
+  EXPECT_EQ(s.settings.solver.iterations, defaults.solver.iterations);
+  ASSERT_EQ(s.bodies.size(), 1u);
+  const linx::BodyDef& b = s.bodies[0];
+  EXPECT_EQ(b.position, linx::Vec3::Zero());
+  EXPECT_TRUE(b.orientation.coeffs().isApprox(linx::Quat::Identity().coeffs()));
+  EXPECT_EQ(b.linear_velocity, linx::Vec3::Zero());
+  EXPECT_EQ(b.angular_velocity, linx::Vec3::Zero());
+  EXPECT_FALSE(b.is_static);
+  EXPECT_TRUE(s.joints.empty());
+}
+
+TEST(SceneRead, EveryField) {
+  const linx::Scene s = parse(json::parse(R"({
+    "gravity": [0, -9.8, 0], "timestep": 0.002, "duration": 3.5,
+    "solver": {"type": "pgs", "iterations": 40, "tolerance": 1e-8, "erp": 0.3, "cfm": 1e-6,
+               "warm_start": false, "sor": 1.3, "substeps": 4, "projection": true,
+               "projection_iterations": 5, "projection_tolerance": 1e-9},
+    "bodies": [
+      {"name": "ground", "static": true},
+      {"name": "arm", "mass": 2, "inertia": [[2, 0.1, 0], [0.1, 3, 0], [0, 0, 4]],
+       "position": [1, 2, 3], "orientation": [0, 0, 0, 2], "linear_velocity": [1, 0, 0],
+       "angular_velocity": [0, 0, 1],
+       "shapes": [{"type": "box", "size": [1, 2, 3], "position": [0, 0, 1],
+                   "orientation": [1, 0, 0, 0]}]}
+    ],
+    "joints": [
+      {"name": "s", "type": "slider", "body1": "arm", "body2": "ground", "axis": [3, 0, 4],
+       "limits": {"lower": -0.5}, "motor": {"max_force": 10}, "erp": 0.5, "cfm": 0.01},
+      {"name": "f", "type": "fixed", "body1": "arm", "anchor": [7, 8, 9]},
+      {"name": "p", "type": "ball", "body1": "arm", "anchor": [1, 1, 1]},
+      {"name": "h", "type": "hinge", "body1": "arm", "body2": "world", "anchor": [0, 0, 0],
+       "axis": [0, 1, 0], "limits": {"lower": -1, "upper": 1},
+       "motor": {"target_velocity": -2, "max_force": 5}}
+    ]
+  })"));
+  EXPECT_EQ(s.settings.gravity, linx::Vec3(0, -9.8, 0));
+  EXPECT_EQ(s.settings.timestep, 0.002);
+  EXPECT_EQ(s.duration, 3.5);
+  const linx::SolverSettings& solver = s.settings.solver;
+  EXPECT_EQ(solver.type, linx::SolverType::Pgs);
+  EXPECT_EQ(solver.iterations, 40);
+  EXPECT_EQ(solver.tolerance, 1e-8);
+  EXPECT_EQ(solver.erp, 0.3);
+  EXPECT_EQ(solver.cfm, 1e-6);
+  EXPECT_FALSE(solver.warm_start);
+  EXPECT_EQ(solver.sor, 1.3);
+  EXPECT_EQ(solver.substeps, 4);
+  EXPECT_TRUE(solver.projection);
+  EXPECT_EQ(solver.projection_iterations, 5);
+  EXPECT_EQ(solver.projection_tolerance, 1e-9);
+
+  ASSERT_EQ(s.bodies.size(), 2u);
+  EXPECT_TRUE(s.bodies[0].is_static);
+  const linx::BodyDef& arm = s.bodies[1];
+  EXPECT_EQ(arm.name, "arm");
+  EXPECT_EQ(arm.mass, 2.0);
+  linx::Mat3 inertia;
+  inertia << 2, 0.1, 0, 0.1, 3, 0, 0, 0, 4;
+  EXPECT_EQ(arm.inertia, inertia);  // given: not computed from the shape
+  EXPECT_EQ(arm.position, linx::Vec3(1, 2, 3));
+  EXPECT_EQ(arm.orientation.coeffs(), linx::Quat(0, 0, 0, 1).coeffs());  // normalized
+  EXPECT_EQ(arm.linear_velocity, linx::Vec3(1, 0, 0));
+  EXPECT_EQ(arm.angular_velocity, linx::Vec3(0, 0, 1));
+  ASSERT_EQ(arm.shapes.size(), 1u);
+  EXPECT_EQ(arm.shapes[0].type, linx::ShapeType::Box);
+  EXPECT_EQ(arm.shapes[0].size, linx::Vec3(1, 2, 3));
+  EXPECT_EQ(arm.shapes[0].position, linx::Vec3(0, 0, 1));
+
+  ASSERT_EQ(s.joints.size(), 4u);
+  const linx::SceneJoint& slider = s.joints[0];
+  EXPECT_EQ(slider.type, "slider");
+  EXPECT_EQ(slider.def.name, "s");
+  EXPECT_EQ(slider.def.body1, linx::BodyId{1});
+  EXPECT_EQ(slider.def.body2, linx::BodyId{0});
+  EXPECT_EQ(slider.def.anchor, arm.position);  // defaults to body1's position
+  EXPECT_TRUE(slider.def.axis.isApprox(linx::Vec3(0.6, 0, 0.8), 1e-15));
+  ASSERT_TRUE(slider.def.limits);
+  EXPECT_EQ(slider.def.limits->lower, -0.5);
+  EXPECT_EQ(slider.def.limits->upper, linx::kInfinity);
+  ASSERT_TRUE(slider.def.motor);
+  EXPECT_EQ(slider.def.motor->target_velocity, 0.0);
+  EXPECT_EQ(slider.def.motor->max_force, 10.0);
+  EXPECT_EQ(slider.def.erp, 0.5);
+  EXPECT_EQ(slider.def.cfm, 0.01);
+
+  const linx::SceneJoint& fixed = s.joints[1];
+  EXPECT_EQ(fixed.def.body2, linx::kWorldBody);  // body2 left out
+  EXPECT_EQ(fixed.def.anchor, linx::Vec3(7, 8, 9));
+  EXPECT_FALSE(fixed.def.limits);
+  EXPECT_FALSE(fixed.def.erp);
+
+  EXPECT_EQ(s.joints[2].type, "ball");
+  const linx::SceneJoint& hinge = s.joints[3];
+  EXPECT_EQ(hinge.def.body2, linx::kWorldBody);  // "world"
+  EXPECT_EQ(hinge.def.axis, linx::Vec3(0, 1, 0));
+  EXPECT_EQ(hinge.def.limits->lower, -1.0);
+  EXPECT_EQ(hinge.def.limits->upper, 1.0);
+  EXPECT_EQ(hinge.def.motor->target_velocity, -2.0);
+}
+
+TEST(SceneRead, StaticBodyNeedsNoMassOrInertia) {
+  const linx::Scene s = parse(json::parse(R"({"bodies": [{"name": "ground", "static": true}]})"));
+  EXPECT_TRUE(s.bodies[0].is_static);
+}
+
+// Inertia of a solid of revolution about z with radius profile R(z), integrated by Simpson's rule
+// piece by piece. R^2 is a polynomial of degree <= 2 on each piece, so the integrands are
+// polynomials of degree <= 4: the rule's error, (h^4/180) times the fourth derivative, is below
+// 1e-15 here.
+struct Revolution {
+  double mass = 0, izz = 0, ixx = 0;  // for unit density
+};
+Revolution integrate(const std::function<double(double)>& radius2,
+                     const std::vector<double>& breaks) {
+  Revolution out;
+  const double pi = std::acos(-1.0);
+  for (std::size_t k = 0; k + 1 < breaks.size(); ++k) {
+    const int n = 1024;
+    const double a = breaks[k], h = (breaks[k + 1] - a) / n;
+    for (int i = 0; i <= n; ++i) {
+      const double z = a + i * h;
+      const double w = (i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0) * h / 3.0;
+      const double r2 = std::max(radius2(z), 0.0);
+      out.mass += w * pi * r2;
+      out.izz += w * 0.5 * pi * r2 * r2;            // discs: m r^2 / 2
+      out.ixx += w * pi * r2 * (r2 / 4.0 + z * z);  // discs: m r^2 / 4 + m z^2
+    }
+  }
+  return out;
+}
+
+linx::Mat3 inertiaOf(const std::string& shape, double mass) {
+  json scene = json::parse(R"({"bodies": [{"name": "a"}]})");
+  scene["bodies"][0]["mass"] = mass;
+  scene["bodies"][0]["shapes"] = json::array({json::parse(shape)});
+  return parse(scene).bodies[0].inertia;
+}
+
+TEST(SceneRead, InertiaFromShapes) {
+  const double m = 3.0;
+  EXPECT_TRUE(inertiaOf(R"({"type": "sphere", "radius": 0.5})", m)
+                  .isApprox(linx::Mat3::Identity() * 0.4 * m * 0.25, 1e-15));
+  EXPECT_TRUE(inertiaOf(R"({"type": "box", "size": [1, 2, 3]})", m)
+                  .isApprox(linx::Mat3(linx::Vec3(13, 10, 5).asDiagonal()) * (m / 12), 1e-15));
+
+  const double r = 0.2, L = 0.6;
+  const std::string dims = R"(, "radius": 0.2, "length": 0.6})";
+  const Revolution cylinder = integrate([&](double) { return r * r; }, {-L / 2, L / 2});
+  const Revolution capsule = integrate(
+      [&](double z) {
+        const double beyond = std::max(std::abs(z) - L / 2, 0.0);  // into a cap
+        return r * r - beyond * beyond;
+      },
+      {-L / 2 - r, -L / 2, L / 2, L / 2 + r});
+  for (const auto& [type, exact] :
+       {std::pair{"cylinder", cylinder}, std::pair{"capsule", capsule}}) {
+    SCOPED_TRACE(type);
+    const linx::Mat3 I = inertiaOf(std::string(R"({"type": ")") + type + '"' + dims, m);
+    const double scale = m / exact.mass;
+    EXPECT_NEAR(I(0, 0), exact.ixx * scale, 1e-12);
+    EXPECT_NEAR(I(1, 1), exact.ixx * scale, 1e-12);
+    EXPECT_NEAR(I(2, 2), exact.izz * scale, 1e-12);
+    EXPECT_TRUE(I.isDiagonal(1e-15));
+  }
+  // A capsule of length 0 is a sphere.
+  EXPECT_TRUE(inertiaOf(R"({"type": "capsule", "radius": 0.5, "length": 0})", m)
+                  .isApprox(inertiaOf(R"({"type": "sphere", "radius": 0.5})", m), 1e-15));
+}
+
+TEST(SceneRead, InertiaOfARotatedAndOffsetShape) {
+  // A box turned a quarter turn about z swaps its x and y moments; an offset d along z adds
+  // m d^2 about x and y (parallel axes).
+  const double m = 2.0, s = std::sqrt(0.5);
+  json shape = {{"type", "box"}, {"size", {1, 2, 3}}, {"orientation", {s, 0, 0, s}}};
+  linx::Mat3 expected = linx::Mat3(linx::Vec3(10, 13, 5).asDiagonal()) * (m / 12);
+  EXPECT_TRUE(inertiaOf(shape.dump(), m).isApprox(expected, 1e-14));
+  shape["position"] = {0, 0, 0.5};
+  expected += linx::Mat3(linx::Vec3(1, 1, 0).asDiagonal()) * (m * 0.25);
+  EXPECT_TRUE(inertiaOf(shape.dump(), m).isApprox(expected, 1e-14));
+}
+
+TEST(SceneRead, ExamplesLoadAndBuild) {
+  const std::filesystem::path dir = LINX_EXAMPLES_DIR;
+  const std::vector<std::pair<std::string, std::pair<int, int>>> examples = {
+      {"pendulum.json", {1, 1}},      {"double_pendulum.json", {2, 2}},
+      {"hinge_chain.json", {10, 10}}, {"slider_incline.json", {1, 1}},
+      {"slider_crank.json", {3, 4}},
+  };
+  for (const auto& [file, counts] : examples) {
+    SCOPED_TRACE(file);
+    const linx::Scene scene = linx::loadScene(dir / file);
+    const linx::World world = linx::buildWorld(scene);
+    EXPECT_EQ(world.bodyCount(), counts.first);
+    EXPECT_EQ(world.jointCount(), counts.second);
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+      EXPECT_EQ(world.findBody(scene.bodies[i].name), linx::BodyId{static_cast<int>(i)});
+    }
+    for (const linx::SceneJoint& j : scene.joints) EXPECT_TRUE(world.findJoint(j.def.name));
+  }
+}
+
+TEST(SceneRead, ExampleGeometry) {
+  const std::filesystem::path dir = LINX_EXAMPLES_DIR;
+  const linx::Scene crank = linx::loadScene(dir / "slider_crank.json");
+  EXPECT_EQ(crank.settings.solver.type, linx::SolverType::Exact);
+  EXPECT_EQ(crank.joints[0].def.motor->target_velocity, 2 * std::acos(-1.0));
+  EXPECT_EQ(crank.joints[3].type, "slider");
+  EXPECT_EQ(crank.joints[3].def.anchor, linx::Vec3(0.4, 0, 0));  // the piston's centre
+
+  const linx::Scene incline = linx::loadScene(dir / "slider_incline.json");
+  const double down = std::acos(-1.0) / 6;  // 30 degrees
+  EXPECT_TRUE(
+      incline.joints[0].def.axis.isApprox(linx::Vec3(std::cos(down), 0, -std::sin(down)), 1e-15));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Building
+
+TEST(SceneBuild, EngineRefusalsNameTheDefinition) {
+  linx::Scene scene = parse(baseScene());
+  scene.bodies[1].mass = -1;  // past the reader: the engine refuses it
+  linx::SceneError e("", "", "");
+  try {
+    linx::buildWorld(scene);
+    FAIL() << "no error";
+  } catch (const linx::SceneError& error) {
+    e = error;
+  }
+  EXPECT_EQ(e.field(), "bodies[1]");
+  EXPECT_NE(e.problem().find("mass"), std::string::npos) << e.problem();
+
+  scene = parse(baseScene());
+  scene.joints[0].def.body2 = linx::BodyId{7};
+  try {
+    linx::buildWorld(scene);
+    FAIL() << "no error";
+  } catch (const linx::SceneError& error) {
+    EXPECT_EQ(error.field(), "joints[0]");
+    EXPECT_EQ(error.file(), "scene.json");
+  }
+}
+
+TEST(SceneBuild, BodiesKeepFileOrderAndState) {
+  const linx::Scene scene = parse(baseScene());
+  const linx::World world = linx::buildWorld(scene);
+  EXPECT_EQ(world.body(linx::BodyId{0}).name(), "a");
+  EXPECT_EQ(world.body(linx::BodyId{0}).position(), linx::Vec3(1, 0, 0));
+  EXPECT_EQ(world.body(linx::BodyId{1}).mass(), 1.0);
+  EXPECT_EQ(world.joint(linx::JointId{0}).type(), "hinge");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Errors
+
+TEST(SceneError, MessageIsFileFieldProblem) {
+  EXPECT_STREQ(linx::SceneError("s.json", "bodies[0].mass", "must be > 0, got 0").what(),
+               "s.json: bodies[0].mass: must be > 0, got 0");
+  EXPECT_STREQ(linx::SceneError("s.json", "", "cannot open").what(), "s.json: cannot open");
+}
+
+TEST(SceneError, Files) {
+  const auto missing = std::filesystem::path(LINX_EXAMPLES_DIR) / "no_such_scene.json";
+  try {
+    linx::loadScene(missing);
+    FAIL() << "no error";
+  } catch (const linx::SceneError& e) {
+    EXPECT_EQ(e.file(), missing.string());
+    EXPECT_EQ(e.field(), "");
+    EXPECT_NE(e.problem().find("cannot open"), std::string::npos) << e.problem();
+  }
+  try {
+    linx::loadScene(LINX_EXAMPLES_DIR);
+    FAIL() << "no error";
+  } catch (const linx::SceneError& e) {
+    EXPECT_EQ(e.problem(), "is a directory");
+  }
+}
+
+TEST(SceneError, MalformedJson) {
+  linx::SceneError e = errorOf("{\n  \"timestep\": 0.001\n  \"duration\": 1\n}");
+  EXPECT_EQ(e.field(), "line 3, column 12");  // where the parser gave up: after "duration"
+  EXPECT_NE(e.problem().find("syntax error"), std::string::npos) << e.problem();
+  EXPECT_EQ(errorOf("").field(), "line 1, column 1");
+  EXPECT_EQ(errorOf("{} x").field(), "line 1, column 4");
+  EXPECT_EQ(errorOf(R"({"bodies": [1,]})").field(), "line 1, column 15");
+  // JSON has no comments.
+  EXPECT_EQ(errorOf("// scene\n{}").field(), "line 1, column 1");
+}
+
+TEST(SceneError, NumbersTooLargeForADouble) {
+  std::string text = baseScene().dump();
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return errorOf(t);
+  };
+  linx::SceneError e = replace(R"("mass":2)", R"("mass":1e999)");
+  EXPECT_EQ(e.field(), "bodies[0].mass");
+  EXPECT_NE(e.problem().find("1e999"), std::string::npos) << e.problem();
+  EXPECT_EQ(replace(R"("anchor":[0,0,0])", R"("anchor":[0,-1e400,0])").field(),
+            "joints[0].anchor[1]");
+  EXPECT_EQ(replace(R"({"bodies")", R"({"gravity":[0,0,1e999],"bodies")").field(), "gravity[2]");
+}
+
+TEST(SceneError, DuplicateKeys) {
+  linx::SceneError e = errorOf(R"({"timestep": 0.1, "timestep": 0.2, "bodies": []})");
+  EXPECT_EQ(e.field(), "timestep");
+  EXPECT_EQ(e.problem(), "duplicate key");
+  e = errorOf(R"({"bodies": [{"name": "a", "mass": 1, "inertia": [1, 1, 1]},
+                             {"name": "b", "mass": 1, "mass": 2}]})");
+  EXPECT_EQ(e.field(), "bodies[1].mass");
+  e = errorOf(R"({"bodies": [{"name": "a", "shapes": [[], {"radius": 1, "radius": 2}]}]})");
+  EXPECT_EQ(e.field(), "bodies[0].shapes[1].radius");
+}
+
+TEST(SceneError, TopLevel) {
+  EXPECT_EQ(errorOf("[1, 2]").problem(), "a scene must be a JSON object, got an array");
+  expectErrors({
+      {[](json& s) {
+         s["gravty"] = {0, 0, -1};
+       },
+       "gravty", "unknown field (did you mean 'gravity'?)"},
+      {[](json& s) { s["comment"] = "x"; }, "comment", "unknown field"},
+      {[](json& s) {
+         s["gravity"] = {0, 0};
+       },
+       "gravity", "expected an array of 3 numbers, got 2 items"},
+      {[](json& s) { s["gravity"] = "down"; }, "gravity",
+       "expected an array of 3 numbers, got a string"},
+      {[](json& s) {
+         s["gravity"] = {0, "a", 0};
+       },
+       "gravity[1]", "expected a number, got a string"},
+      {[](json& s) { s["timestep"] = 0; }, "timestep", "must be > 0, got 0"},
+      {[](json& s) { s["timestep"] = -0.001; }, "timestep", "must be > 0, got -0.001"},
+      {[](json& s) { s["duration"] = "5"; }, "duration", "expected a number, got a string"},
+      {[](json& s) { s["duration"] = true; }, "duration", "expected a number, got a boolean"},
+      {[](json& s) { s.erase("bodies"); }, "bodies", "missing required field"},
+      {[](json& s) { s["bodies"] = json::array(); }, "bodies", "must contain at least one body"},
+      {[](json& s) { s["bodies"] = json::object(); }, "bodies", "expected an array, got an object"},
+      {[](json& s) { s["joints"] = nullptr; }, "joints", "expected an array, got null"},
+  });
+}
+
+TEST(SceneError, Solver) {
+  expectErrors({
+      {[](json& s) { s["solver"] = "pgs"; }, "solver", "expected an object, got a string"},
+      {[](json& s) { s["solver"]["type"] = "fast"; }, "solver.type",
+       "unknown solver type 'fast' (expected \"exact\" or \"pgs\")"},
+      {[](json& s) { s["solver"]["iteration"] = 5; }, "solver.iteration",
+       "unknown field (did you mean 'iterations'?)"},
+      {[](json& s) { s["solver"]["iterations"] = 0; }, "solver.iterations",
+       "must be an integer >= 1, got 0"},
+      {[](json& s) { s["solver"]["iterations"] = 2.5; }, "solver.iterations",
+       "must be an integer >= 1, got 2.5"},
+      {[](json& s) { s["solver"]["iterations"] = 1e12; }, "solver.iterations",
+       "must be an integer >= 1"},
+      {[](json& s) { s["solver"]["tolerance"] = -1; }, "solver.tolerance", "must be >= 0, got -1"},
+      {[](json& s) { s["solver"]["erp"] = 1.5; }, "solver.erp", "must be between 0 and 1, got 1.5"},
+      {[](json& s) { s["solver"]["cfm"] = -1e-9; }, "solver.cfm", "must be >= 0"},
+      {[](json& s) { s["solver"]["warm_start"] = "yes"; }, "solver.warm_start",
+       "expected true or false, got a string"},
+      {[](json& s) { s["solver"]["sor"] = 2; }, "solver.sor", "must be strictly between 0 and 2"},
+      {[](json& s) { s["solver"]["sor"] = 0; }, "solver.sor", "must be strictly between 0 and 2"},
+      {[](json& s) { s["solver"]["substeps"] = 0; }, "solver.substeps", "must be an integer >= 1"},
+      {[](json& s) { s["solver"]["projection"] = 1; }, "solver.projection",
+       "expected true or false, got a number"},
+      {[](json& s) { s["solver"]["projection_iterations"] = 0; }, "solver.projection_iterations",
+       "must be an integer >= 1"},
+      {[](json& s) { s["solver"]["projection_tolerance"] = -1; }, "solver.projection_tolerance",
+       "must be >= 0"},
+  });
+}
+
+TEST(SceneError, Bodies) {
+  expectErrors({
+      {[](json& s) { s["bodies"][0] = 5; }, "bodies[0]", "expected an object, got a number"},
+      {[](json& s) { s["bodies"][0]["mas"] = 1; }, "bodies[0].mas",
+       "unknown field (did you mean 'mass'?)"},
+      {[](json& s) { s["bodies"][0].erase("name"); }, "bodies[0].name", "missing required field"},
+      {[](json& s) { s["bodies"][0]["name"] = 5; }, "bodies[0].name",
+       "expected a string, got a number"},
+      {[](json& s) { s["bodies"][0]["name"] = ""; }, "bodies[0].name", "must not be empty"},
+      {[](json& s) { s["bodies"][0]["name"] = "world"; }, "bodies[0].name", "'world' is reserved"},
+      {[](json& s) { s["bodies"][1]["name"] = "a"; }, "bodies[1].name",
+       "duplicate body name 'a' (also bodies[0])"},
+      {[](json& s) { s["bodies"][0].erase("mass"); }, "bodies[0].mass", "missing required field"},
+      {[](json& s) { s["bodies"][0]["mass"] = 0; }, "bodies[0].mass", "must be > 0, got 0"},
+      {[](json& s) { s["bodies"][0]["mass"] = -2; }, "bodies[0].mass", "must be > 0, got -2"},
+      {[](json& s) { s["bodies"][1]["static"] = true, s["bodies"][1]["mass"] = 0; },
+       "bodies[1].mass", "must be > 0"},
+      {[](json& s) { s["bodies"][0].erase("inertia"); }, "bodies[0].inertia",
+       "missing required field (give the inertia, or a shape to compute it from)"},
+      {[](json& s) {
+         s["bodies"][0]["inertia"] = {1, 0, 1};
+       },
+       "bodies[0].inertia[1]", "must be > 0, got 0"},
+      {[](json& s) {
+         s["bodies"][0]["inertia"] = {1, 2};
+       },
+       "bodies[0].inertia", "expected [Ixx, Iyy, Izz] or a 3x3 array, got 2 items"},
+      {[](json& s) { s["bodies"][0]["inertia"] = 1; }, "bodies[0].inertia",
+       "expected [Ixx, Iyy, Izz] or a 3x3 array, got a number"},
+      {[](json& s) { s["bodies"][0]["inertia"] = json::parse("[[1,0.5,0],[0,1,0],[0,0,1]]"); },
+       "bodies[0].inertia", "must be symmetric"},
+      {[](json& s) { s["bodies"][0]["inertia"] = json::parse("[[1,2,0],[2,1,0],[0,0,1]]"); },
+       "bodies[0].inertia", "must be positive definite"},
+      {[](json& s) { s["bodies"][0]["inertia"] = json::parse("[[1,0],[0,1,0],[0,0,1]]"); },
+       "bodies[0].inertia[0]", "expected an array of 3 numbers, got 2 items"},
+      {[](json& s) {
+         s["bodies"][0]["orientation"] = {0, 0, 0, 0};
+       },
+       "bodies[0].orientation", "must not be zero"},
+      {[](json& s) {
+         s["bodies"][0]["orientation"] = {1, 0, 0};
+       },
+       "bodies[0].orientation", "expected an array of 4 numbers, got 3 items"},
+      {[](json& s) {
+         s["bodies"][0]["position"] = {0, 0, nullptr};
+       },
+       "bodies[0].position[2]", "expected a number, got null"},
+      {[](json& s) {
+         s["bodies"][0]["linear_velocity"] = {0, 0};
+       },
+       "bodies[0].linear_velocity", "expected an array of 3 numbers"},
+      {[](json& s) { s["bodies"][0]["static"] = "true"; }, "bodies[0].static",
+       "expected true or false, got a string"},
+      {[](json& s) {
+         s["bodies"][0]["static"] = true, s["bodies"][0]["angular_velocity"] = {0, 1, 0};
+       },
+       "bodies[0].angular_velocity", "a static body cannot move"},
+      {[](json& s) { s["bodies"][0]["shapes"] = json::object(); }, "bodies[0].shapes",
+       "expected an array, got an object"},
+  });
+}
+
+TEST(SceneError, Shapes) {
+  const auto shape = [](const char* text) {
+    return [text](json& s) { s["bodies"][1]["shapes"][0] = json::parse(text); };
+  };
+  expectErrors({
+      {shape(R"(1)"), "bodies[1].shapes[0]", "expected an object, got a number"},
+      {shape(R"({"radius": 1})"), "bodies[1].shapes[0].type", "missing required field"},
+      {shape(R"({"type": "cone"})"), "bodies[1].shapes[0].type",
+       "unknown shape type 'cone' (expected sphere, box, capsule or cylinder)"},
+      {shape(R"({"type": "sphere", "radious": 1})"), "bodies[1].shapes[0].radious",
+       "unknown field (did you mean 'radius'?)"},
+      {shape(R"({"type": "sphere"})"), "bodies[1].shapes[0].radius", "missing required field"},
+      {shape(R"({"type": "sphere", "radius": 0})"), "bodies[1].shapes[0].radius",
+       "must be > 0, got 0"},
+      {shape(R"({"type": "sphere", "radius": 1, "size": [1, 1, 1]})"), "bodies[1].shapes[0].size",
+       "not used by a sphere shape"},
+      {shape(R"({"type": "box", "radius": 1})"), "bodies[1].shapes[0].radius",
+       "not used by a box shape"},
+      {shape(R"({"type": "box"})"), "bodies[1].shapes[0].size", "missing required field"},
+      {shape(R"({"type": "box", "size": [1, -1, 1]})"), "bodies[1].shapes[0].size[1]",
+       "must be > 0, got -1"},
+      {shape(R"({"type": "capsule", "radius": 1})"), "bodies[1].shapes[0].length",
+       "missing required field"},
+      {shape(R"({"type": "capsule", "radius": 1, "length": -1})"), "bodies[1].shapes[0].length",
+       "must be >= 0, got -1"},
+      {shape(R"({"type": "cylinder", "radius": 1, "length": 0})"), "bodies[1].shapes[0].length",
+       "must be > 0, got 0"},
+      {shape(R"({"type": "sphere", "radius": 1, "orientation": [0, 0, 0, 0]})"),
+       "bodies[1].shapes[0].orientation", "must not be zero"},
+  });
+}
+
+TEST(SceneError, Joints) {
+  const auto joint = [](const char* text) {
+    return [text](json& s) { s["joints"][0] = json::parse(text); };
+  };
+  expectErrors({
+      {joint(R"("h")"), "joints[0]", "expected an object, got a string"},
+      {[](json& s) {
+         s["joints"][0]["axsi"] = {0, 0, 1};
+       },
+       "joints[0].axsi", "unknown field (did you mean 'axis'?)"},
+      {[](json& s) { s["joints"][0].erase("name"); }, "joints[0].name", "missing required field"},
+      {[](json& s) { s["joints"][0]["name"] = ""; }, "joints[0].name", "must not be empty"},
+      {[](json& s) { s["joints"][1] = s["joints"][0]; }, "joints[1].name",
+       "duplicate joint name 'h' (also joints[0])"},
+      {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
+      {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].type",
+       "unknown joint type 'universal' (expected fixed, slider, hinge or ball)"},
+      {[](json& s) { s["joints"][0].erase("body1"); }, "joints[0].body1", "missing required field"},
+      {[](json& s) { s["joints"][0]["body1"] = "c"; }, "joints[0].body1", "unknown body 'c'"},
+      {[](json& s) { s["joints"][0]["body1"] = "aa"; }, "joints[0].body1",
+       "unknown body 'aa' (did you mean 'a'?)"},
+      {[](json& s) { s["joints"][0]["body1"] = 0; }, "joints[0].body1",
+       "expected a string, got a number"},
+      {[](json& s) { s["joints"][0]["body1"] = "world"; }, "joints[0].body1",
+       "must be a body, not the world"},
+      {[](json& s) { s["joints"][0]["body2"] = "bee"; }, "joints[0].body2", "unknown body 'bee'"},
+      {[](json& s) { s["joints"][0]["body2"] = "a"; }, "joints[0].body2",
+       "a joint needs two different bodies"},
+      {[](json& s) { s["joints"][0].erase("anchor"); }, "joints[0].anchor",
+       "missing required field"},
+      {joint(R"({"name": "p", "type": "ball", "body1": "a"})"), "joints[0].anchor",
+       "missing required field"},
+      {[](json& s) { s["joints"][0].erase("axis"); }, "joints[0].axis", "missing required field"},
+      {joint(R"({"name": "s", "type": "slider", "body1": "a"})"), "joints[0].axis",
+       "missing required field"},
+      {[](json& s) {
+         s["joints"][0]["axis"] = {0, 0, 0};
+       },
+       "joints[0].axis", "must not be zero"},
+      {joint(R"({"name": "p", "type": "ball", "body1": "a", "anchor": [0,0,0], "axis": [0,0,1]})"),
+       "joints[0].axis", "not used by a ball joint"},
+      {joint(R"({"name": "f", "type": "fixed", "body1": "a", "limits": {"upper": 1}})"),
+       "joints[0].limits", "not used by a fixed joint"},
+      {joint(R"({"name": "p", "type": "ball", "body1": "a", "anchor": [0,0,0],
+                 "motor": {"max_force": 1}})"),
+       "joints[0].motor", "not used by a ball joint"},
+      {[](json& s) {
+         s["joints"][0]["limits"] = {{"lower", 1}, {"upper", -1}};
+       },
+       "joints[0].limits", "lower (1) is above upper (-1)"},
+      {[](json& s) {
+         s["joints"][0]["limits"] = {{"min", 1}};
+       },
+       "joints[0].limits.min", "unknown field"},
+      {[](json& s) {
+         s["joints"][0]["limits"] = {{"lower", "a"}};
+       },
+       "joints[0].limits.lower", "expected a number, got a string"},
+      {[](json& s) {
+         s["joints"][0]["limits"] = {1, 2};
+       },
+       "joints[0].limits", "expected an object, got an array"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"target_velocity", 1}};
+       },
+       "joints[0].motor.max_force", "missing required field"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"max_force", -1}};
+       },
+       "joints[0].motor.max_force", "must be >= 0, got -1"},
+      {[](json& s) { s["joints"][0]["erp"] = 2; }, "joints[0].erp", "must be between 0 and 1"},
+      {[](json& s) { s["joints"][0]["cfm"] = -1; }, "joints[0].cfm", "must be >= 0"},
+  });
+}
+
+}  // namespace
