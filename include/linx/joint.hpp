@@ -98,6 +98,18 @@ class Joint {
 /// definition the type cannot accept (a zero axis, inverted limits, a negative motor force).
 std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
                                  const BodyState& b2);
+/// What a registered joint type uses of a JointDef.
+struct JointTypeInfo {
+  std::string_view name;
+  bool needs_anchor = false;    ///< the anchor shapes the constraint (else any point will do)
+  bool uses_axis = false;       ///< JointDef::axis
+  bool has_coordinate = false;  ///< a free coordinate: accepts limits and a motor
+};
+
+/// The registered joint types, in registration order.
+std::span<const JointTypeInfo> jointTypes();
+/// The registered type called `type`, or nullptr.
+const JointTypeInfo* findJointType(std::string_view type);
 /// Whether `type` names a registered joint type.
 bool isJointType(std::string_view type);
 

@@ -162,20 +162,6 @@ struct Node {
   std::string path;
 };
 
-// The fields each joint type takes besides name, type, body1, body2, erp and cfm.
-struct JointFields {
-  std::string_view type;
-  bool anchor_required;  // otherwise it defaults to body1's position
-  bool axis;             // required when used
-  bool limits_and_motor;
-};
-constexpr JointFields kJointFields[] = {
-    {"fixed", false, false, false},
-    {"slider", false, true, true},
-    {"hinge", true, true, true},
-    {"ball", true, false, false},
-};
-
 // Validating readers for each part of the format. Each one fails with the path of the field.
 class Reader {
  public:
@@ -506,11 +492,18 @@ class Reader {
 
     const Node type = require(n, "type");
     joint.type = string(type);
-    const auto fields = std::find_if(std::begin(kJointFields), std::end(kJointFields),
-                                     [&](const JointFields& f) { return f.type == joint.type; });
-    if (fields == std::end(kJointFields) || !isJointType(joint.type)) {
-      fail(type.path, fmt::format("unknown joint type '{}' (expected fixed, slider, hinge or ball)",
-                                  joint.type));
+    // What each type takes comes from the joint registry (JointTypeInfo).
+    const JointTypeInfo* fields = findJointType(joint.type);
+    if (!fields) {
+      std::string names;
+      const auto types = jointTypes();
+      for (std::size_t i = 0; i < types.size(); ++i)
+        names += fmt::format("{}{}",
+                             i == 0                  ? ""
+                             : i + 1 == types.size() ? " or "
+                                                     : ", ",
+                             types[i].name);
+      fail(type.path, fmt::format("unknown joint type '{}' (expected {})", joint.type, names));
     }
     const auto unused = [&](std::string_view key) {
       if (n.value.contains(key)) {
@@ -539,7 +532,7 @@ class Reader {
       if (d.body2 == d.body1) fail(v->path, "a joint needs two different bodies");
     }
 
-    if (fields->anchor_required) {
+    if (fields->needs_anchor) {
       d.anchor = vec3(require(n, "anchor"));
     } else if (auto v = get(n, "anchor")) {
       d.anchor = vec3(*v);
@@ -547,13 +540,13 @@ class Reader {
       d.anchor = bodies[static_cast<std::size_t>(d.body1.index)].position;
     }
 
-    if (fields->axis) {
+    if (fields->uses_axis) {
       d.axis = direction(require(n, "axis"));
     } else {
       unused("axis");
     }
 
-    if (fields->limits_and_motor) {
+    if (fields->has_coordinate) {
       if (auto v = get(n, "limits")) d.limits = limits(*v);
       if (auto v = get(n, "motor")) d.motor = motor(*v);
     } else {

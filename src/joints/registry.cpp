@@ -1,4 +1,4 @@
-// The joint types known by name. Adding a type: its own file, and one line in kTypes below.
+// The joint types known by name. Adding a type: its own file, and one line in kInfo and kMake.
 #include "joints/ball_joint.hpp"
 #include "joints/fixed_joint.hpp"
 #include "joints/hinge_joint.hpp"
@@ -14,34 +14,25 @@ namespace linx {
 
 namespace {
 
-struct JointType {
-  std::string_view name;
-  bool has_axis;        // uses JointDef::axis
-  bool has_coordinate;  // accepts limits and a motor
-  std::unique_ptr<Joint> (*make)(const JointDef&, const BodyState&, const BodyState&);
-};
+using Maker = std::unique_ptr<Joint> (*)(const JointDef&, const BodyState&, const BodyState&);
 
 template <class T>
 std::unique_ptr<Joint> make(const JointDef& def, const BodyState& b1, const BodyState& b2) {
   return std::make_unique<T>(def, b1, b2);
 }
 
-constexpr std::array kTypes{
-    JointType{"fixed", false, false, &make<joints::FixedJoint>},
-    JointType{"slider", true, true, &make<joints::SliderJoint>},
-    JointType{"hinge", true, true, &make<joints::HingeJoint>},
-    JointType{"ball", false, false, &make<joints::BallJoint>},
-};
+//                      name      anchor axis   coordinate
+constexpr std::array<JointTypeInfo, 4> kInfo{{{"fixed", false, false, false},
+                                              {"slider", false, true, true},
+                                              {"hinge", true, true, true},
+                                              {"ball", true, false, false}}};
+constexpr std::array<Maker, kInfo.size()> kMake{
+    &make<joints::FixedJoint>, &make<joints::SliderJoint>, &make<joints::HingeJoint>,
+    &make<joints::BallJoint>};
 
-const JointType* find(std::string_view name) {
-  for (const JointType& t : kTypes)
-    if (t.name == name) return &t;
-  return nullptr;
-}
-
-void validate(const JointType& t, const JointDef& def) {
+void validate(const JointTypeInfo& t, const JointDef& def) {
   if (!def.anchor.allFinite()) throw std::invalid_argument("anchor: not a finite vector");
-  if (t.has_axis && !(def.axis.allFinite() && def.axis.norm() > 1e-12))
+  if (t.uses_axis && !(def.axis.allFinite() && def.axis.norm() > 1e-12))
     throw std::invalid_argument("axis: must be a finite non-zero vector");
   if (def.erp && !(*def.erp >= 0.0 && *def.erp <= 1.0))
     throw std::invalid_argument("erp: must be in [0, 1]");
@@ -58,16 +49,26 @@ void validate(const JointType& t, const JointDef& def) {
 
 }  // namespace
 
+std::span<const JointTypeInfo> jointTypes() {
+  return kInfo;
+}
+
+const JointTypeInfo* findJointType(std::string_view type) {
+  for (const JointTypeInfo& t : kInfo)
+    if (t.name == type) return &t;
+  return nullptr;
+}
+
 bool isJointType(std::string_view type) {
-  return find(type) != nullptr;
+  return findJointType(type) != nullptr;
 }
 
 std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
                                  const BodyState& b2) {
-  const JointType* t = find(type);
+  const JointTypeInfo* t = findJointType(type);
   if (!t) throw std::invalid_argument(fmt::format("unknown joint type '{}'", type));
   validate(*t, def);
-  return t->make(def, b1, b2);
+  return kMake[static_cast<std::size_t>(t - kInfo.data())](def, b1, b2);
 }
 
 }  // namespace linx
