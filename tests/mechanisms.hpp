@@ -26,6 +26,7 @@ struct SliderCrank {
     crank_hinge = world.createJoint(
         "hinge", JointDef{.name = "crank",
                           .body1 = crank,
+                          .anchor = Vec3::Zero(),
                           .axis = Vec3::UnitZ(),
                           .motor = JointMotor{.target_velocity = speed, .max_force = 100.0}});
     world.createJoint("hinge", JointDef{.name = "crank_pin",

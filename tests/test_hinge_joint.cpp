@@ -87,7 +87,9 @@ TEST(Hinge, SimplePendulumFollowsTheIftommA01Reference) {
   bob.inertia = Mat3::Identity() * (2.0 / 5.0 * 1.0 * 0.01 * 0.01);
   bob.position = Vec3(-1, 0, 0);
   const BodyId id = w.createBody(bob);
-  w.createJoint("hinge", JointDef{.name = "pivot", .body1 = id, .axis = Vec3::UnitZ()});
+  w.createJoint(
+      "hinge",
+      JointDef{.name = "pivot", .body1 = id, .anchor = Vec3::Zero(), .axis = Vec3::UnitZ()});
   struct Ref {
     double t, x, y;
   };
@@ -115,7 +117,8 @@ TEST(Hinge, AngleIsZeroAtCreationAndFollowsTheRightHandRule) {
     d.position = d.orientation * Vec3(0.5, 0, 0);
     const BodyId id = w.createBody(d);
     const Vec3 axis = Vec3(0, 0, 1);
-    const JointId j = w.createJoint("hinge", JointDef{.name = "h", .body1 = id, .axis = axis});
+    const JointId j = w.createJoint(
+        "hinge", JointDef{.name = "h", .body1 = id, .anchor = Vec3::Zero(), .axis = axis});
     EXPECT_NEAR(*w.jointCoordinate(j), 0.0, 1e-15);
     // Spin the arm at +1 rad/s about +z for 0.3 s: the angle reads +0.3.
     w.body(id).setAngularVelocity(Vec3(0, 0, 1.0));
@@ -156,6 +159,46 @@ TEST(Hinge, AngleCountsTurnsAndLimitsMayLieBeyondHalfATurn) {
   p.world.joint(p.hinge).setLimits(JointLimits{.lower = -6.5, .upper = 10.0});
   for (int i = 0; i < 3000; ++i) p.world.step();
   EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), -6.5, 1e-9);
+}
+
+TEST(Hinge, NarrowLimitsWithAMotorUseEveryRowSlot) {
+  // Regression: with both limits within reach and a motor, a hinge writes 8 rows; it once had
+  // room for 7 and overwrote the next joint's rows. The rod must stay inside [-0.01, 0.01].
+  for (const SolverType type : {SolverType::Exact, SolverType::Pgs}) {
+    SolverSettings solver;
+    solver.type = type;
+    Pendulum p = makeRodPendulum(1.0, solver);
+    p.world.joint(p.hinge).setLimits(JointLimits{.lower = -0.01, .upper = 0.01});
+    p.world.joint(p.hinge).setMotor(JointMotor{.target_velocity = 5.0, .max_force = 50.0});
+    const BodyId other =
+        p.world.createBody(test::boxBody("other", 1.0, Vec3(1, 0.02, 0.02), Vec3(0.5, 0, -1)));
+    p.world.createJoint(
+        "hinge",
+        JointDef{
+            .name = "second", .body1 = other, .anchor = Vec3(0, 0, -1), .axis = Vec3::UnitY()});
+    int most_rows = 0;
+    for (int i = 0; i < 500; ++i) {
+      p.world.step();
+      const double angle = *p.world.jointCoordinate(p.hinge);
+      ASSERT_LT(std::abs(angle), 0.01 + 1e-6) << "step " << i;
+      most_rows = std::max(most_rows, p.world.lastReport().rows);
+    }
+    EXPECT_EQ(most_rows, 8 + 5);
+    EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), 0.01, 1e-6);  // the motor holds it on the bound
+  }
+}
+
+TEST(Hinge, SettersRejectWhatCreationRejects) {
+  SolverSettings solver;
+  Pendulum p = makeRodPendulum(1.0, solver);
+  Joint& j = p.world.joint(p.hinge);
+  EXPECT_THROW(j.setMotor(JointMotor{.target_velocity = 0.0, .max_force = -5.0}),
+               std::invalid_argument);
+  EXPECT_THROW(j.setLimits(JointLimits{.lower = 1.0, .upper = -1.0}), std::invalid_argument);
+  EXPECT_FALSE(j.def().motor.has_value());  // a refused change leaves the joint as it was
+  const BodyId b = p.world.createBody(test::boxBody("b", 1.0, Vec3(1, 1, 1), Vec3(0, 0, -3)));
+  const JointId ball = p.world.createJoint("ball", JointDef{.name = "ball", .body1 = b});
+  EXPECT_THROW(p.world.joint(ball).setLimits(JointLimits{}), std::invalid_argument);
 }
 
 TEST(Hinge, MotorHoldsTheTargetSpeedWithinItsTorque) {

@@ -71,6 +71,7 @@ linx::World makeWorld() {
   linx::JointDef hinge;
   hinge.name = "pivot";
   hinge.body1 = b;
+  hinge.anchor = linx::Vec3::Zero();
   hinge.axis = linx::Vec3::UnitY();
   world.createJoint("hinge", hinge);
   linx::JointDef fixed;

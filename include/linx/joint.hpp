@@ -33,10 +33,11 @@ struct JointMotor {
 /// every field: a ball joint has no axis, a fixed joint neither axis, limits nor motor.
 struct JointDef {
   std::string name;
-  BodyId body1 = kWorldBody;   ///< must be a body
-  BodyId body2 = kWorldBody;   ///< kWorldBody fixes body1 to the world
-  Vec3 anchor = Vec3::Zero();  ///< a point on the joint (m), world frame at creation
-  Vec3 axis = Vec3::UnitZ();   ///< hinge rotation axis / slider direction, world frame
+  BodyId body1 = kWorldBody;  ///< must be a body
+  BodyId body2 = kWorldBody;  ///< kWorldBody fixes body1 to the world
+  /// A point on the joint (m), world frame at creation; default: body1's centre of mass.
+  std::optional<Vec3> anchor = std::nullopt;
+  Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame
   std::optional<JointLimits> limits = std::nullopt;  ///< sliders and hinges
   std::optional<JointMotor> motor = std::nullopt;    ///< sliders and hinges
   std::optional<double> erp = std::nullopt;          ///< overrides the world's error reduction
@@ -86,8 +87,9 @@ class Joint {
   BodyId body1() const { return def_.body1; }
   BodyId body2() const { return def_.body2; }
   const JointDef& def() const { return def_; }
-  void setMotor(std::optional<JointMotor> motor) { def_.motor = motor; }
-  void setLimits(std::optional<JointLimits> limits) { def_.limits = limits; }
+  /// Set or remove the motor / limits; throws std::invalid_argument as makeJoint does.
+  void setMotor(std::optional<JointMotor> motor);
+  void setLimits(std::optional<JointLimits> limits);
 
  private:
   JointDef def_;

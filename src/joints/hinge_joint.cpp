@@ -15,10 +15,6 @@
 
 namespace linx::joints {
 
-namespace {
-enum Slot { kPoint = 0, kAlign = 3, kLower = 5, kUpper = 6, kMotor = 7 };
-}
-
 HingeJoint::HingeJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
 
@@ -36,28 +32,11 @@ int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   pointRows(Arms::of(frames_, ctx.b1, ctx.b2), rows.subspan<0, 3>());
   alignRows(frames_, ctx.b1, ctx.b2, rows.subspan<3, 2>());
   for (int k = 0; k < 5; ++k) rows[k].key = k;
-  int n = 5;
 
   const Vec3 axis = ctx.b2.pose.orientation * frames_.axis2;
   const double theta = *coordinate(ctx.b1, ctx.b2);
-  if (const auto& lim = def().limits) {
-    for (const bool lower : {true, false}) {
-      Row& row = rows[n];
-      angularRow(axis, theta, row);
-      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, kAngularLimitMargin, row)) {
-        row.key = lower ? kLower : kUpper;
-        ++n;
-      }
-    }
-  }
-  if (const auto& motor = def().motor) {
-    Row& row = rows[n];
-    angularRow(axis, theta, row);
-    motorRow(ctx, *motor, row);
-    row.key = kMotor;
-    ++n;
-  }
-  return n;
+  return limitAndMotorRows(
+      ctx, def(), kAngularLimitMargin, [&](Row& row) { angularRow(axis, theta, row); }, rows, 5);
 }
 
 }  // namespace linx::joints

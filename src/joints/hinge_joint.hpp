@@ -8,7 +8,7 @@ class HingeJoint final : public Joint {
  public:
   HingeJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
   std::string_view type() const override { return "hinge"; }
-  int maxRows() const override { return 7; }
+  int maxRows() const override { return 8; }  // 5 + two limits + motor
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;

@@ -1,10 +1,26 @@
 #include <linx/joint.hpp>
 
+#include "joints/validation.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 namespace linx {
+
+void Joint::setMotor(std::optional<JointMotor> motor) {
+  JointDef next = def_;
+  next.motor = motor;
+  joints::validate(*findJointType(type()), next);
+  def_ = next;
+}
+
+void Joint::setLimits(std::optional<JointLimits> limits) {
+  JointDef next = def_;
+  next.limits = limits;
+  joints::validate(*findJointType(type()), next);
+  def_ = next;
+}
 
 double Joint::error(const BodyState& b1, const BodyState& b2) const {
   // The rows' own phi is the error: equality rows count fully, limits only when overshot. Zero

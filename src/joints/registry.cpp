@@ -3,6 +3,7 @@
 #include "joints/fixed_joint.hpp"
 #include "joints/hinge_joint.hpp"
 #include "joints/slider_joint.hpp"
+#include "joints/validation.hpp"
 
 #include <fmt/format.h>
 
@@ -30,8 +31,12 @@ constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>, &make<joints::SliderJoint>, &make<joints::HingeJoint>,
     &make<joints::BallJoint>};
 
+}  // namespace
+
+namespace joints {
 void validate(const JointTypeInfo& t, const JointDef& def) {
-  if (!def.anchor.allFinite()) throw std::invalid_argument("anchor: not a finite vector");
+  if (def.anchor && !def.anchor->allFinite())
+    throw std::invalid_argument("anchor: not a finite vector");
   if (t.uses_axis && !(def.axis.allFinite() && def.axis.norm() > 1e-12))
     throw std::invalid_argument("axis: must be a finite non-zero vector");
   if (def.erp && !(*def.erp >= 0.0 && *def.erp <= 1.0))
@@ -47,7 +52,7 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("motor: needs a finite target_velocity and max_force >= 0");
 }
 
-}  // namespace
+}  // namespace joints
 
 std::span<const JointTypeInfo> jointTypes() {
   return kInfo;
@@ -67,8 +72,10 @@ std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, con
                                  const BodyState& b2) {
   const JointTypeInfo* t = findJointType(type);
   if (!t) throw std::invalid_argument(fmt::format("unknown joint type '{}'", type));
-  validate(*t, def);
-  return kMake[static_cast<std::size_t>(t - kInfo.data())](def, b1, b2);
+  JointDef resolved = def;
+  if (!resolved.anchor) resolved.anchor = b1.pose.position;
+  joints::validate(*t, resolved);
+  return kMake[static_cast<std::size_t>(t - kInfo.data())](resolved, b1, b2);
 }
 
 }  // namespace linx

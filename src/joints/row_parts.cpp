@@ -16,11 +16,13 @@ Vec6 block(const Vec3& lin, const Vec3& ang) {
 
 JointFrames JointFrames::capture(const JointDef& def, const BodyState& b1, const BodyState& b2) {
   JointFrames f;
-  f.anchor1 = b1.pose.toLocal(def.anchor);
-  f.anchor2 = b2.pose.toLocal(def.anchor);
+  const Vec3 anchor = def.anchor.value_or(b1.pose.position);
+  f.anchor1 = b1.pose.toLocal(anchor);
+  f.anchor2 = b2.pose.toLocal(anchor);
   const Vec3 axis = def.axis.normalized();
   f.axis1 = b1.pose.orientation.conjugate() * axis;
   f.axis2 = b2.pose.orientation.conjugate() * axis;
+  math::orthonormalBasis(f.axis2, f.tangent1, f.tangent2);
   f.rest = (b2.pose.orientation.conjugate() * b1.pose.orientation).normalized();
   return f;
 }
@@ -62,7 +64,7 @@ void alignRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
   const Vec3 a1 = b1.pose.orientation * f.axis1;
   const Vec3 a2 = b2.pose.orientation * f.axis2;
   Vec3 t[2];
-  math::orthonormalBasis(a2, t[0], t[1]);
+  f.tangents(b2, t[0], t[1]);
   const Vec3 c = a2.cross(a1);
   for (int j = 0; j < 2; ++j) {
     rows[j].Ja = block(Vec3::Zero(), t[j]);

@@ -6,8 +6,8 @@
 //              J_k = [ e_k, r1 x e_k | -e_k, -(r2 x e_k) ]
 //   lock       C = R2 log(q2^-1 q1 q0^-1)  (relative rotation since creation, world frame)
 //              J_k = [ 0, e_k | 0, -e_k ]                       3 rows (exact at C = 0)
-//   align      C_j = t_j . (a2 x a1), a_i the hinge axis fixed in body i, t_j _|_ a2
-//              J_j = [ 0, t_j | 0, -t_j ]                      2 rows (exact at C = 0)
+//   align      C_j = t_j . (a2 x a1), a_i the hinge axis fixed in body i, t_j _|_ a2 fixed in
+//              body 2                J_j = [ 0, t_j | 0, -t_j ]   2 rows (exact at C = 0)
 //   linear     C = n . d, d = (p1 + r1) - (p2 + r2), n fixed in body 2
 //              J = [ n, r1 x n | -n, -(r2 + d) x n ]          1 row per direction, exact
 //   angular    C = theta about a (twist of q2^-1 q1 q0^-1), J = [ 0, a | 0, -a ]
@@ -22,11 +22,19 @@ namespace linx::joints {
 
 /// Joint geometry captured at creation, in each body's frame.
 struct JointFrames {
-  Vec3 anchor1 = Vec3::Zero();   ///< anchor in body 1's frame
-  Vec3 anchor2 = Vec3::Zero();   ///< anchor in body 2's frame
-  Vec3 axis1 = Vec3::UnitZ();    ///< unit axis in body 1's frame
-  Vec3 axis2 = Vec3::UnitZ();    ///< unit axis in body 2's frame
-  Quat rest = Quat::Identity();  ///< q2^-1 q1 at creation: relative orientation that reads zero
+  Vec3 anchor1 = Vec3::Zero();    ///< anchor in body 1's frame
+  Vec3 anchor2 = Vec3::Zero();    ///< anchor in body 2's frame
+  Vec3 axis1 = Vec3::UnitZ();     ///< unit axis in body 1's frame
+  Vec3 axis2 = Vec3::UnitZ();     ///< unit axis in body 2's frame
+  Vec3 tangent1 = Vec3::UnitX();  ///< unit, _|_ axis2, body 2's frame
+  Vec3 tangent2 = Vec3::UnitY();  ///< axis2 x tangent1
+  Quat rest = Quat::Identity();   ///< q2^-1 q1 at creation: relative orientation that reads zero
+
+  /// The tangents in the world frame: they turn with body 2.
+  void tangents(const BodyState& b2, Vec3& t1, Vec3& t2) const {
+    t1 = b2.pose.orientation * tangent1;
+    t2 = b2.pose.orientation * tangent2;
+  }
 
   static JointFrames capture(const JointDef& def, const BodyState& b1, const BodyState& b2);
 };
@@ -64,6 +72,35 @@ inline constexpr double kLinearLimitMargin = 1e-3;   ///< (m)
 inline constexpr double kAngularLimitMargin = 2e-2;  ///< (rad)
 /// Turns a coordinate row into a velocity motor row: J u = target, |lambda| <= h max_force.
 void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row);
+
+/// Row slots of a free coordinate's limits and motor (after a joint's equality rows).
+inline constexpr int kLowerLimitSlot = 5, kUpperLimitSlot = 6, kMotorSlot = 7;
+
+/// Appends the limit rows (only those reached) and the motor row of a joint's free coordinate to
+/// rows[n...]; `coordinateRow(row)` fills a row with the coordinate's J and phi. Writes at most
+/// 3 rows; returns the new count.
+template <class CoordinateRow>
+int limitAndMotorRows(const JointContext& ctx, const JointDef& def, double margin,
+                      CoordinateRow&& coordinateRow, std::span<Row> rows, int n) {
+  if (def.limits) {
+    for (const bool lower : {true, false}) {
+      Row& row = rows[static_cast<std::size_t>(n)];
+      coordinateRow(row);
+      if (limitRow(ctx, lower ? def.limits->lower : def.limits->upper, lower, margin, row)) {
+        row.key = lower ? kLowerLimitSlot : kUpperLimitSlot;
+        ++n;
+      }
+    }
+  }
+  if (def.motor) {
+    Row& row = rows[static_cast<std::size_t>(n)];
+    coordinateRow(row);
+    motorRow(ctx, *def.motor, row);
+    row.key = kMotorSlot;
+    ++n;
+  }
+  return n;
+}
 
 /// Rate J u of a row for the given body states.
 double rowRate(const Row& row, const BodyState& b1, const BodyState& b2);

@@ -10,13 +10,7 @@
 //   motor:   J u = target velocity, |lambda| <= h max_force
 #include "joints/slider_joint.hpp"
 
-#include "math/rotation.hpp"
-
 namespace linx::joints {
-
-namespace {
-enum Slot { kLock = 0, kLinear = 3, kLower = 5, kUpper = 6, kMotor = 7 };
-}
 
 SliderJoint::SliderJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
@@ -29,32 +23,15 @@ std::optional<double> SliderJoint::coordinate(const BodyState& b1, const BodySta
 int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   lockRows(frames_, ctx.b1, ctx.b2, rows.subspan<0, 3>());
   const Arms arms = Arms::of(frames_, ctx.b1, ctx.b2);
-  const Vec3 n = ctx.b2.pose.orientation * frames_.axis2;
   Vec3 t1, t2;
-  math::orthonormalBasis(n, t1, t2);
+  frames_.tangents(ctx.b2, t1, t2);
   linearRow(arms, t1, rows[3]);
   linearRow(arms, t2, rows[4]);
   for (int k = 0; k < 5; ++k) rows[k].key = k;
-  int n_rows = 5;
 
-  if (const auto& lim = def().limits) {
-    for (const bool lower : {true, false}) {
-      Row& row = rows[n_rows];
-      linearRow(arms, n, row);
-      if (limitRow(ctx, lower ? lim->lower : lim->upper, lower, kLinearLimitMargin, row)) {
-        row.key = lower ? kLower : kUpper;
-        ++n_rows;
-      }
-    }
-  }
-  if (const auto& motor = def().motor) {
-    Row& row = rows[n_rows];
-    linearRow(arms, n, row);
-    motorRow(ctx, *motor, row);
-    row.key = kMotor;
-    ++n_rows;
-  }
-  return n_rows;
+  const Vec3 n = ctx.b2.pose.orientation * frames_.axis2;
+  return limitAndMotorRows(
+      ctx, def(), kLinearLimitMargin, [&](Row& row) { linearRow(arms, n, row); }, rows, 5);
 }
 
 }  // namespace linx::joints

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace linx::solver {
 
@@ -67,28 +68,41 @@ int ExactSolver::solveFree(const Problem& p) {
   aff.setFromTriplets(triplets.begin(), triplets.end());
 
   // A tiny shift keeps the factorization finite when A_FF is singular (redundant rows); refinement
-  // against the unshifted matrix then removes its effect on every consistent equation.
+  // against the unshifted matrix then removes its effect on every consistent equation. It stops
+  // when the residual stops falling: with inconsistent redundant rows (cfm = 0) further steps
+  // would only grow the impulses along the null space.
   const double shift = 1e-13 * std::max(max_diag, 1e-300);
   SpMat shifted = aff;
   for (int i = 0; i < nf; ++i) shifted.coeffRef(i, i) += shift;
   ldlt_.compute(shifted);
+  if (ldlt_.info() != Eigen::Success)
+    throw std::domain_error("exact solver: the factorization failed (non-finite rows?)");
   Eigen::VectorXd x = ldlt_.solve(rhs);
-  for (int refine = 0; refine < 3; ++refine) {
-    const Eigen::VectorXd r = rhs - aff * x;
-    if (r.lpNorm<Eigen::Infinity>() <= 1e-15 * (1.0 + rhs.lpNorm<Eigen::Infinity>())) break;
-    x += ldlt_.solve(r);
+  double res = (rhs - aff * x).lpNorm<Eigen::Infinity>();
+  for (int refine = 0; refine < 3 && res > 1e-15 * (1.0 + rhs.lpNorm<Eigen::Infinity>());
+       ++refine) {
+    const Eigen::VectorXd next = x + ldlt_.solve(rhs - aff * x);
+    const double next_res = (rhs - aff * next).lpNorm<Eigen::Infinity>();
+    if (!(next_res < 0.5 * res)) break;
+    x = next;
+    res = next_res;
   }
   for (int k = 0; k < n; ++k)
     if (free_index_[std::size_t(k)] >= 0) p.lambda[std::size_t(k)] = x[free_index_[std::size_t(k)]];
 
-  // Redundancy: a pivot that is tiny compared with its own diagonal entry (the part of the row
-  // that is not the regularization) means the row depends on earlier ones.
+  // Redundancy: the pivot of a row that depends on earlier rows is made only of regularization,
+  // a small multiple of the rows' cfm and the shift (2 c for a duplicated row with cfm c, 1.5 c for
+  // a third copy); an independent row's pivot is of the order of its J M^-1 J^T, whatever the
+  // masses. A pivot within 10 times its row's regularization, or below 1e-8 of its diagonal,
+  // counts as redundant.
   int redundant = 0;
   const Eigen::VectorXd& d = ldlt_.vectorD();
   const auto& perm = ldlt_.permutationP().indices();
-  for (int j = 0; j < nf; ++j) {
-    const double diag = aff.coeff(j, j);
-    if (d[perm[j]] < 1e-8 * diag) ++redundant;
+  for (int k = 0; k < n; ++k) {
+    const int j = free_index_[std::size_t(k)];
+    if (j < 0) continue;
+    const double cfm = p.rows[std::size_t(k)].cfm;
+    if (d[perm[j]] <= 1e-8 * (aff.coeff(j, j) - cfm) + 10.0 * (cfm + shift)) ++redundant;
   }
   return redundant;
 }
@@ -130,6 +144,7 @@ SolverReport ExactSolver::solve(Problem& p) {
     const Eigen::Map<const Eigen::VectorXd> lam(p.lambda.data(), int(n));
     w = a_ * lam + b_;
     infeasible.clear();
+    bool bounds_moved = false;  // a held row whose bound followed another row (friction)
     for (std::size_t k = 0; k < n; ++k) {
       double lo, hi;
       RowSystem::bounds(p.rows, p.lambda, k, lo, hi);
@@ -139,11 +154,14 @@ SolverReport ExactSolver::solve(Problem& p) {
                        (state_[k] == State::Lower && lo != hi && wk < -settings_.tolerance) ||
                        (state_[k] == State::Upper && lo != hi && wk > settings_.tolerance);
       if (bad) infeasible.push_back(k);
+      const double held = state_[k] == State::Lower ? lo : hi;
+      if (state_[k] != State::Free && std::abs(l - held) > tol_l) bounds_moved = true;
     }
-    if (infeasible.empty()) {
+    if (infeasible.empty() && !bounds_moved) {
       report.converged = true;
       break;
     }
+    if (infeasible.empty()) continue;  // re-hold the rows at their moved bounds
     // Block pivoting while it makes progress, single pivots (the last infeasible row) otherwise:
     // the single-pivot rule terminates for the P-matrices of well-posed problems.
     if (infeasible.size() < best_infeasible) {
@@ -163,6 +181,13 @@ SolverReport ExactSolver::solve(Problem& p) {
     }
   }
 
+  if (!report.converged) {  // at the iteration cap: never apply an impulse outside its bounds
+    for (std::size_t k = 0; k < n; ++k) {
+      double lo, hi;
+      RowSystem::bounds(p.rows, p.lambda, k, lo, hi);
+      p.lambda[k] = std::clamp(p.lambda[k], lo, hi);
+    }
+  }
   for (std::size_t k = 0; k < n; ++k)
     if (p.lambda[k] != 0.0) sys_.apply(p.rows[k], k, p.lambda[k], p.bodies);
   report.residual = sys_.residual(p);

@@ -38,14 +38,26 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
                      j.def().erp.value_or(settings.erp), j.def().cfm.value_or(settings.cfm)};
     const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
     for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
-    const int n = j.fill(ctx, slots);
     const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());
+    if (a < 0 && b < 0) continue;  // between static bodies / the world: nothing can move
+    const int n = j.fill(ctx, slots);
+    // 4. verify
+    if (n < 0 || n > j.maxRows())
+      throw std::logic_error(
+          fmt::format("joints[{}] ({}): wrote {} rows, more than its maxRows() {}", ji, j.name(), n,
+                      j.maxRows()));
     for (int k = 0; k < n; ++k) {
       Row& r = slots[static_cast<std::size_t>(k)];
       r.body_a = a;
       r.body_b = b;
       r.key = (static_cast<std::uint64_t>(ji + 1) << 8) | (r.key & 0xff);
-      // 4. verify
+      if (r.normal >=
+          0) {  // a friction row: its normal row's index, from the joint's to the list's
+        if (r.normal >= n)
+          throw std::logic_error(fmt::format("joints[{}] ({}): friction row refers to row {} of {}",
+                                             ji, j.name(), r.normal, n));
+        r.normal += static_cast<int>(used);
+      }
       if (!finite(r))
         throw std::domain_error(
             fmt::format("joints[{}] ({}): its constraint rows are not finite (degenerate geometry)",

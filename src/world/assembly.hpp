@@ -17,7 +17,9 @@ namespace linx::world {
 BodyState stateOf(std::span<const Body> bodies, BodyId id);
 
 /// Assembles the rows of all joints for a step of length h. Solver body indices are body indices,
-/// -1 for the world and for static bodies. Row keys are unique and stable across steps.
+/// -1 for the world and for static bodies; joints between two such are skipped (nothing moves).
+/// Row keys are unique and stable across steps; friction rows' `normal` becomes a list index.
+/// Throws std::logic_error when a joint writes more rows than its maxRows().
 /// Throws std::domain_error naming the joint if it produces a non-finite row.
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                   const SolverSettings& settings, double h, std::vector<Row>& rows);

@@ -11,12 +11,14 @@ namespace linx::world {
 
 namespace {
 /// Keeps the rows that carry a position error and makes each remove all of it (erp = 1, h = 1).
-/// Returns the largest error among them.
-double positionalRows(std::vector<Row>& rows) {
+/// Rows softer than the world's (a spring-damper made of cfm) keep their stretch: it is physics,
+/// not drift. Returns the largest error among the rows kept.
+double positionalRows(std::vector<Row>& rows, double world_cfm) {
   double err = 0.0;
   std::erase_if(rows, [&](Row& r) {
-    const bool keep =
+    const bool positional =
         r.kind == RowKind::Bilateral || (r.kind == RowKind::Unilateral && r.phi < 0.0);
+    const bool keep = positional && r.cfm <= world_cfm;
     if (!keep) return true;
     err = std::max(err, std::abs(r.phi));
     r.speed = 0.0;
@@ -39,7 +41,7 @@ double projectPositions(std::span<const std::unique_ptr<Joint>> joints, std::spa
   double err = 0.0;
   for (int it = 0; it <= settings.projection_iterations; ++it) {
     assembleRows(joints, bodies, settings, 1.0, rows);
-    err = positionalRows(rows);
+    err = positionalRows(rows, settings.cfm);
     if (err <= settings.projection_tolerance || it == settings.projection_iterations) break;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       const Body& b = bodies[i];

@@ -1,6 +1,7 @@
 // Optional post-stabilization (position projection): after a step, Newton iterations on the
 // joints' position errors. Each iteration assembles the rows at the current positions and solves
-//   J M^-1 J^T dl = -phi   (equality rows; limit rows that are overshot, as unilateral rows)
+//   J M^-1 J^T dl = -phi   (equality rows; limit rows that are overshot, as unilateral rows;
+//                           not rows made soft by a cfm above the world's)
 // with the exact solver, then moves every body by dx = M^-1 J^T dl. The correction is the
 // mass-weighted smallest one, so it does not push momentum into a free mechanism.
 #pragma once

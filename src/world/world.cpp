@@ -110,7 +110,12 @@ void World::step() {
   const double h = settings_.timestep;
   if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("timestep: must be > 0");
   const int substeps = std::max(1, settings_.solver.substeps);
-  for (int s = 0; s < substeps; ++s) substep(h / substeps);
+  try {
+    for (int s = 0; s < substeps; ++s) substep(h / substeps);
+  } catch (const std::domain_error& e) {  // a joint's rows went non-finite (assembly, projection)
+    throw NonFiniteState(fmt::format("{} in step {} (t = {} s)", e.what(), steps_ + 1, time_), -1,
+                         steps_ + 1, time_);
+  }
   for (Body& b : bodies_) b.clearLoads();
   ++steps_;
   // Time as a multiple of the step since the step last changed: no round-off accumulates.
@@ -139,12 +144,7 @@ void World::substep(double h) {
   // 1. velocities
   for (Body& b : bodies_) dynamics::integrateVelocity(b, settings_.gravity, h);
   // 2. assembly
-  try {
-    world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
-  } catch (const std::domain_error& e) {
-    throw NonFiniteState(fmt::format("{} in step {} (t = {} s)", e.what(), steps_ + 1, time_), -1,
-                         steps_ + 1, time_);
-  }
+  world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
   // 3. warm start
   m.lambda.assign(m.rows.size(), 0.0);
   if (settings_.solver.warm_start) {
