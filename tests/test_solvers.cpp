@@ -64,15 +64,15 @@ struct OneRow {
 
 TEST(Solvers, UnilateralRowPushesOnlyWhenApproaching) {
   for (const SolverType type : {SolverType::Exact, SolverType::Pgs}) {
-    auto s = solver::makeSolver(SolverSettings{.type = type});
+    auto s = solver::makeSolver(type);
     OneRow falling(-0.3, 0.0, kInfinity);
     auto p = falling.problem();
-    s->solve(p);
+    s->solve(p, SolverSettings{});
     EXPECT_NEAR(falling.lambda[0], 2.0 * 0.3, 1e-12);  // m |v|: stops it exactly
     EXPECT_NEAR(falling.bodies[0].v.z(), 0.0, 1e-12);
     OneRow rising(0.3, 0.0, kInfinity);
     auto q = rising.problem();
-    s->solve(q);
+    s->solve(q, SolverSettings{});
     EXPECT_EQ(rising.lambda[0], 0.0);  // separating: no pull
     EXPECT_NEAR(rising.bodies[0].v.z(), 0.3, 1e-15);
   }
@@ -80,10 +80,10 @@ TEST(Solvers, UnilateralRowPushesOnlyWhenApproaching) {
 
 TEST(Solvers, BoxedRowSaturatesAtItsBound) {
   for (const SolverType type : {SolverType::Exact, SolverType::Pgs}) {
-    auto s = solver::makeSolver(SolverSettings{.type = type});
+    auto s = solver::makeSolver(type);
     OneRow motor(-0.3, -0.1, 0.1);  // would need 0.6 N s, gets 0.1
     auto p = motor.problem();
-    const SolverReport r = s->solve(p);
+    const SolverReport r = s->solve(p, SolverSettings{});
     EXPECT_NEAR(motor.lambda[0], 0.1, 1e-15);
     EXPECT_NEAR(motor.bodies[0].v.z(), -0.3 + 0.5 * 0.1, 1e-15);
     EXPECT_LT(r.residual, 1e-12);
@@ -103,8 +103,8 @@ TEST(Solvers, ExactSolverSurvivesAndReportsRedundantRows) {
       solver::SolverBody{0.5, Mat3::Identity(), Vec3(0, 0, -1), Vec3::Zero()}};
   std::vector<double> lambda(3, 0.0);
   solver::Problem p{rows, bodies, lambda, 1e-3};
-  solver::ExactSolver s{SolverSettings{}};
-  const SolverReport r = s.solve(p);
+  solver::ExactSolver s;
+  const SolverReport r = s.solve(p, SolverSettings{});
   EXPECT_EQ(r.redundant_rows, 2);
   EXPECT_NEAR(lambda[0] + lambda[1] + lambda[2], 2.0, 1e-9);
   EXPECT_NEAR(bodies[0].v.z(), 0.0, 1e-9);

@@ -107,7 +107,7 @@ int ExactSolver::solveFree(const Problem& p) {
   return redundant;
 }
 
-SolverReport ExactSolver::solve(Problem& p) {
+SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
   SolverReport report;
   const std::size_t n = p.rows.size();
   report.rows = int(n);
@@ -131,7 +131,7 @@ SolverReport ExactSolver::solve(Problem& p) {
   report.converged = false;
   std::vector<std::size_t> infeasible;
   Eigen::VectorXd w(static_cast<int>(n));
-  for (int it = 0; it < std::max(1, settings_.iterations); ++it) {
+  for (int it = 0; it < std::max(1, settings.iterations); ++it) {
     for (std::size_t k = 0; k < n; ++k) {
       if (state_[k] == State::Free) continue;
       double lo, hi;
@@ -151,8 +151,8 @@ SolverReport ExactSolver::solve(Problem& p) {
       const double l = p.lambda[k], tol_l = 1e-12 * (1.0 + std::abs(l));
       const double wk = w[int(k)];
       const bool bad = (state_[k] == State::Free && (l < lo - tol_l || l > hi + tol_l)) ||
-                       (state_[k] == State::Lower && lo != hi && wk < -settings_.tolerance) ||
-                       (state_[k] == State::Upper && lo != hi && wk > settings_.tolerance);
+                       (state_[k] == State::Lower && lo != hi && wk < -settings.tolerance) ||
+                       (state_[k] == State::Upper && lo != hi && wk > settings.tolerance);
       if (bad) infeasible.push_back(k);
       const double held = state_[k] == State::Lower ? lo : hi;
       if (state_[k] != State::Free && std::abs(l - held) > tol_l) bounds_moved = true;

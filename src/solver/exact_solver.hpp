@@ -17,8 +17,7 @@ namespace linx::solver {
 /// diagonal shift of the factorization and iterative refinement, and counted in the report.
 class ExactSolver final : public ConstraintSolver {
  public:
-  explicit ExactSolver(const SolverSettings& s) : settings_(s) {}
-  SolverReport solve(Problem& p) override;
+  SolverReport solve(Problem& p, const SolverSettings& settings) override;
 
  private:
   enum class State : unsigned char { Free, Lower, Upper };
@@ -28,7 +27,6 @@ class ExactSolver final : public ConstraintSolver {
   /// Solves the free rows for the current states; returns the number of redundant pivots.
   int solveFree(const Problem& p);
 
-  SolverSettings settings_;
   RowSystem sys_;
   SpMat a_;            // A = J M^-1 J^T + diag(cfm), full symmetric
   Eigen::VectorXd b_;  // J u* - xi

@@ -5,7 +5,7 @@
 
 namespace linx::solver {
 
-SolverReport PgsSolver::solve(Problem& p) {
+SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   SolverReport report;
   const std::size_t n = p.rows.size();
   report.rows = static_cast<int>(n);
@@ -20,9 +20,9 @@ SolverReport PgsSolver::solve(Problem& p) {
     if (p.lambda[k] != 0.0) sys_.apply(p.rows[k], k, p.lambda[k], p.bodies);
   }
 
-  const double omega = settings_.sor;
+  const double omega = settings.sor;
   report.converged = false;
-  for (int it = 0; it < settings_.iterations; ++it) {
+  for (int it = 0; it < settings.iterations; ++it) {
     double sweep_violation = 0.0;  // of each row as it is visited, before its update
     for (std::size_t k = 0; k < n; ++k) {
       if (sys_.diag[k] <= 0.0) continue;  // a row that touches no movable body
@@ -38,7 +38,7 @@ SolverReport PgsSolver::solve(Problem& p) {
       }
     }
     report.iterations = it + 1;
-    if (sweep_violation <= settings_.tolerance) {
+    if (sweep_violation <= settings.tolerance) {
       report.converged = true;
       break;
     }

@@ -11,11 +11,9 @@ namespace linx::solver {
 /// violation falls below the tolerance.
 class PgsSolver final : public ConstraintSolver {
  public:
-  explicit PgsSolver(const SolverSettings& s) : settings_(s) {}
-  SolverReport solve(Problem& p) override;
+  SolverReport solve(Problem& p, const SolverSettings& settings) override;
 
  private:
-  SolverSettings settings_;
   RowSystem sys_;
 };
 

@@ -30,13 +30,14 @@ struct Problem {
   double h = 0.0;
 };
 
+/// A solver keeps only work buffers between calls; its settings come with each solve.
 class ConstraintSolver {
  public:
   virtual ~ConstraintSolver() = default;
-  virtual SolverReport solve(Problem& problem) = 0;
+  virtual SolverReport solve(Problem& problem, const SolverSettings& settings) = 0;
 };
 
-/// The solver the settings ask for.
-std::unique_ptr<ConstraintSolver> makeSolver(const SolverSettings& settings);
+/// A solver of the given type.
+std::unique_ptr<ConstraintSolver> makeSolver(SolverType type);
 
 }  // namespace linx::solver

@@ -15,9 +15,9 @@ SoftRow springDamper(double stiffness, double damping, double h) {
 }
 
 namespace solver {
-std::unique_ptr<ConstraintSolver> makeSolver(const SolverSettings& settings) {
-  if (settings.type == SolverType::Pgs) return std::make_unique<PgsSolver>(settings);
-  return std::make_unique<ExactSolver>(settings);
+std::unique_ptr<ConstraintSolver> makeSolver(SolverType type) {
+  if (type == SolverType::Pgs) return std::make_unique<PgsSolver>();
+  return std::make_unique<ExactSolver>();
 }
 }  // namespace solver
 

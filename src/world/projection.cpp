@@ -31,9 +31,7 @@ double positionalRows(std::vector<Row>& rows, double world_cfm) {
 
 double projectPositions(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
                         const SolverSettings& settings) {
-  SolverSettings exact = settings;
-  exact.type = SolverType::Exact;
-  solver::ExactSolver solver(exact);
+  solver::ExactSolver solver;
   std::vector<Row> rows;
   std::vector<solver::SolverBody> sb(bodies.size());
   std::vector<double> lambda;
@@ -50,7 +48,7 @@ double projectPositions(std::span<const std::unique_ptr<Joint>> joints, std::spa
     }
     lambda.assign(rows.size(), 0.0);
     solver::Problem p{rows, sb, lambda, 1.0};
-    solver.solve(p);
+    solver.solve(p, settings);
     // The solve leaves the displacement in the velocity slots: apply it as a unit-time step.
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       Body& b = bodies[i];

@@ -31,7 +31,7 @@ struct World::Impl {
   std::vector<double> lambda;
   std::unordered_map<std::uint64_t, double> warm;  // row key -> last impulse
   std::unique_ptr<solver::ConstraintSolver> solver;
-  SolverSettings solver_settings;  // what `solver` was made with
+  SolverType solver_type = SolverType::Exact;  // what `solver` is
 };
 
 World::World(const WorldSettings& settings)
@@ -160,15 +160,12 @@ void World::substep(double h) {
     m.solver_bodies[i] = solver::SolverBody{b.inverseMass(), b.inverseInertiaWorld(),
                                             b.linearVelocity(), b.angularVelocity()};
   }
-  const SolverSettings& ss = settings_.solver;
-  const SolverSettings& made = m.solver_settings;
-  if (!m.solver || made.type != ss.type || made.iterations != ss.iterations ||
-      made.tolerance != ss.tolerance || made.sor != ss.sor) {
-    m.solver = solver::makeSolver(ss);
-    m.solver_settings = ss;
+  if (!m.solver || m.solver_type != settings_.solver.type) {
+    m.solver = solver::makeSolver(settings_.solver.type);
+    m.solver_type = settings_.solver.type;
   }
   solver::Problem problem{m.rows, m.solver_bodies, m.lambda, h};
-  report_ = m.solver->solve(problem);
+  report_ = m.solver->solve(problem, settings_.solver);
   m.warm.clear();
   for (std::size_t k = 0; k < m.rows.size(); ++k) m.warm[m.rows[k].key] = m.lambda[k];
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
@@ -180,6 +177,7 @@ void World::substep(double h) {
   for (Body& b : bodies_) dynamics::integratePosition(b, h);
   // 6. projection
   if (settings_.solver.projection) world::projectPositions(joints_, bodies_, settings_.solver);
+  // 7. tracking
   for (auto& j : joints_) j->track(bodyState(j->body1()), bodyState(j->body2()));
 }
 
