@@ -3,6 +3,7 @@
 
 #include <linx/body.hpp>
 #include <linx/joint.hpp>
+#include <linx/mass_properties.hpp>
 #include <linx/recorder.hpp>
 #include <linx/row.hpp>
 #include <linx/scene.hpp>

@@ -1,6 +1,7 @@
 // Reads and validates JSON scene files (docs/scene-format.md). Every problem is reported as a
 // SceneError that names the file, the field's path (`bodies[2].mass`) and what is wrong, and
 // nothing is built until the whole file has been checked.
+#include <linx/mass_properties.hpp>
 #include <linx/scene.hpp>
 
 #include <fmt/format.h>
@@ -472,7 +473,9 @@ class Reader {
     if (auto v = get(n, "inertia")) {
       b.inertia = inertia(*v);
     } else if (!b.shapes.empty()) {
-      b.inertia = shapeInertia(b.shapes.front(), b.mass);
+      // A solid of the body's mass, about the body origin (docs/scene-format.md).
+      const ShapeDef& shape = b.shapes.front();
+      b.inertia = shapeMassProperties(shape, b.mass / shapeVolume(shape)).inertiaAboutOrigin();
     } else if (!b.is_static) {
       fail(childPath(n.path, "inertia"),
            "missing required field (give the inertia, or a shape to compute it from)");
@@ -575,44 +578,6 @@ class Reader {
     if (auto v = get(n, "target_velocity")) m.target_velocity = number(*v);
     m.max_force = nonNegative(require(n, "max_force"));
     return m;
-  }
-
-  // Inertia of a solid shape of mass m about the body origin, in the body frame: the shape's own
-  // inertia about its centre, rotated by its orientation, plus the parallel-axis term.
-  static Mat3 shapeInertia(const ShapeDef& s, double m) {
-    Vec3 moments;  // about the shape's centre, in the shape's frame
-    const double r2 = s.radius * s.radius;
-    switch (s.type) {
-      case ShapeType::Sphere:
-        moments.setConstant(0.4 * m * r2);
-        break;
-      case ShapeType::Box: {
-        const Vec3 l2 = s.size.cwiseProduct(s.size);
-        moments = m / 12.0 * Vec3(l2.y() + l2.z(), l2.x() + l2.z(), l2.x() + l2.y());
-        break;
-      }
-      case ShapeType::Cylinder: {
-        const double side = m * (3.0 * r2 + s.length * s.length) / 12.0;
-        moments = Vec3(side, side, 0.5 * m * r2);
-        break;
-      }
-      case ShapeType::Capsule: {
-        // A cylinder of length L and two hemispherical caps, the mass split by volume; each cap's
-        // centroid is 3r/8 beyond the end of the cylinder.
-        const double L = s.length, r = s.radius;
-        const double cylinder_volume = L, caps_volume = 4.0 / 3.0 * r;  // both divided by pi r^2
-        const double mc = m * cylinder_volume / (cylinder_volume + caps_volume);
-        const double ms = m - mc;
-        const double side =
-            mc * (L * L / 12.0 + r2 / 4.0) + ms * (0.4 * r2 + L * L / 4.0 + 3.0 * L * r / 8.0);
-        moments = Vec3(side, side, 0.5 * mc * r2 + 0.4 * ms * r2);
-        break;
-      }
-    }
-    const Mat3 R = s.orientation.toRotationMatrix();
-    const Vec3& p = s.position;
-    return R * moments.asDiagonal() * R.transpose() +
-           m * (p.squaredNorm() * Mat3::Identity() - p * p.transpose());
   }
 
   const std::string& file_;

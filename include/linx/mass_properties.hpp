@@ -1,0 +1,29 @@
+// Mass properties of solid shapes of uniform density, and of compound bodies made of several.
+#pragma once
+
+#include <linx/shape.hpp>
+#include <linx/types.hpp>
+
+#include <span>
+
+namespace linx {
+
+struct MassProperties {
+  double mass = 0.0;            ///< (kg)
+  Vec3 center = Vec3::Zero();   ///< centre of mass, body frame (m)
+  Mat3 inertia = Mat3::Zero();  ///< about `center`, body-frame axes (kg m^2)
+
+  /// The inertia about the body frame's origin instead of the centre of mass (parallel axes).
+  Mat3 inertiaAboutOrigin() const;
+};
+
+/// Volume of a shape (m^3).
+double shapeVolume(const ShapeDef& shape);
+
+/// A solid shape of uniform density (kg/m^3), placed by its local pose in the body frame.
+MassProperties shapeMassProperties(const ShapeDef& shape, double density);
+
+/// The shapes together: total mass, common centre of mass, inertia about it.
+MassProperties combine(std::span<const MassProperties> parts);
+
+}  // namespace linx

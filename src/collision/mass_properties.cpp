@@ -1,0 +1,86 @@
+// Closed forms for solids of revolution and boxes (shape frame, about the shape's centre), moved
+// into the body frame by the shape's pose, and combined with the parallel-axis theorem.
+#include <linx/mass_properties.hpp>
+
+#include <numbers>
+
+namespace linx {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+Mat3 parallelAxis(double m, const Vec3& d) {
+  return m * (d.squaredNorm() * Mat3::Identity() - d * d.transpose());
+}
+
+/// Principal moments of a solid shape of mass m about its centre, in the shape's frame.
+Vec3 moments(const ShapeDef& s, double m) {
+  const double r2 = s.radius * s.radius;
+  switch (s.type) {
+    case ShapeType::Sphere:
+      return Vec3::Constant(0.4 * m * r2);
+    case ShapeType::Box: {
+      const Vec3 l2 = s.size.cwiseProduct(s.size);
+      return m / 12.0 * Vec3(l2.y() + l2.z(), l2.x() + l2.z(), l2.x() + l2.y());
+    }
+    case ShapeType::Cylinder: {
+      const double side = m * (3.0 * r2 + s.length * s.length) / 12.0;
+      return Vec3(side, side, 0.5 * m * r2);
+    }
+    case ShapeType::Capsule: {
+      // A cylinder of length L and two hemispherical caps, the mass split by volume; each cap's
+      // centroid lies 3r/8 beyond the end of the cylinder.
+      const double L = s.length, r = s.radius;
+      const double cylinder = L, caps = 4.0 / 3.0 * r;  // volumes over pi r^2
+      const double mc = m * cylinder / (cylinder + caps), ms = m - mc;
+      const double side =
+          mc * (L * L / 12.0 + r2 / 4.0) + ms * (0.4 * r2 + L * L / 4.0 + 3.0 * L * r / 8.0);
+      return Vec3(side, side, 0.5 * mc * r2 + 0.4 * ms * r2);
+    }
+  }
+  return Vec3::Zero();
+}
+}  // namespace
+
+Mat3 MassProperties::inertiaAboutOrigin() const {
+  return inertia + parallelAxis(mass, center);
+}
+
+double shapeVolume(const ShapeDef& s) {
+  const double r = s.radius;
+  switch (s.type) {
+    case ShapeType::Sphere:
+      return 4.0 / 3.0 * kPi * r * r * r;
+    case ShapeType::Box:
+      return s.size.prod();
+    case ShapeType::Cylinder:
+      return kPi * r * r * s.length;
+    case ShapeType::Capsule:
+      return kPi * r * r * s.length + 4.0 / 3.0 * kPi * r * r * r;
+  }
+  return 0.0;
+}
+
+MassProperties shapeMassProperties(const ShapeDef& shape, double density) {
+  MassProperties p;
+  p.mass = density * shapeVolume(shape);
+  p.center = shape.position;
+  const Mat3 r = shape.orientation.normalized().toRotationMatrix();
+  p.inertia = r * moments(shape, p.mass).asDiagonal() * r.transpose();
+  return p;
+}
+
+MassProperties combine(std::span<const MassProperties> parts) {
+  MassProperties total;
+  for (const MassProperties& p : parts) {
+    total.mass += p.mass;
+    total.center += p.mass * p.center;
+  }
+  if (total.mass <= 0.0) return MassProperties{};
+  total.center /= total.mass;
+  for (const MassProperties& p : parts)
+    total.inertia += p.inertia + parallelAxis(p.mass, p.center - total.center);
+  return total;
+}
+
+}  // namespace linx
