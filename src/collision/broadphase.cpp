@@ -1,0 +1,210 @@
+// Sweep and prune over a coarse grid of columns; see broadphase.hpp for the scheme and its cost.
+#include "collision/broadphase.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+namespace linx::collision {
+
+namespace {
+
+/// Sort key on the sweep axis: NaN goes last (as +infinity) so the ordering stays strict-weak.
+double sweepKey(double x) {
+  return std::isnan(x) ? std::numeric_limits<double>::infinity() : x;
+}
+
+bool keyLess(double a_min, int a_index, double b_min, int b_index) {
+  return a_min < b_min || (a_min == b_min && a_index < b_index);
+}
+
+}  // namespace
+
+void SweepAndPrune::update(std::span<const Aabb> boxes) {
+  pairs_.clear();
+  const int previous_axis = axis_;
+  const bool same_count = keys_.size() == boxes.size();
+  chooseAxes(boxes);
+  sortKeys(boxes, same_count && axis_ == previous_axis);
+  if (boxes.size() < 2) return;
+  buildCells(boxes);
+
+  // Sweep each column: entries are in increasing lower bound along the sweep axis, so box m can
+  // overlap box k (m after k) only while its lower bound is <= k's upper bound.
+  const int a = axis_;
+  const int b = cell_axis_[0];
+  const int c = cell_axis_[1];
+  for (int cell = 0; cell < cell_count_[0] * cell_count_[1]; ++cell) {
+    const int end = cell_begin_[cell + 1];
+    for (int k = cell_begin_[cell]; k < end; ++k) {
+      const Aabb& box_k = entries_[k].box;
+      const double hi = box_k.max[a];
+      for (int m = k + 1; m < end && !(entries_[m].box.min[a] > hi); ++m) {
+        const Aabb& box_m = entries_[m].box;
+        if (!box_k.overlaps(box_m)) continue;
+        // Report the pair only in the column holding the start of its overlap: exactly once.
+        const int cb = cellOf(0, std::max(box_k.min[b], box_m.min[b]));
+        const int cc = cellOf(1, std::max(box_k.min[c], box_m.min[c]));
+        if (cb * cell_count_[1] + cc != cell) continue;
+        const int i = entries_[k].index;
+        const int j = entries_[m].index;
+        pairs_.emplace_back(std::min(i, j), std::max(i, j));
+      }
+    }
+  }
+  std::sort(pairs_.begin(), pairs_.end());
+}
+
+void SweepAndPrune::chooseAxes(std::span<const Aabb> boxes) {
+  // Mean and variance of the finite box centres, and mean finite extent, per axis.
+  Vec3 sum = Vec3::Zero();
+  Vec3 extent_sum = Vec3::Zero();
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = -lo;
+  double finite = 0.0;
+  for (const Aabb& box : boxes) {
+    const Vec3 centre = box.centre();
+    const Vec3 extent = box.extent();
+    if (!centre.allFinite() || !extent.allFinite()) continue;
+    sum += centre;
+    extent_sum += extent;
+    lo = lo.cwiseMin(centre);
+    hi = hi.cwiseMax(centre);
+    finite += 1.0;
+  }
+  if (axis_ < 0) axis_ = 0;
+  cell_axis_ = {(axis_ + 1) % 3, (axis_ + 2) % 3};
+  setCellCounts(1, 1);
+  if (finite < 2.0) return;
+  const Vec3 mean = sum / finite;
+  Vec3 var = Vec3::Zero();
+  for (const Aabb& box : boxes) {
+    const Vec3 centre = box.centre();
+    if (!centre.allFinite() || !box.extent().allFinite()) continue;
+    var += (centre - mean).cwiseAbs2();
+  }
+
+  // Largest variance separates the boxes best; keep the current axis unless clearly beaten.
+  int best = 0;
+  var.maxCoeff(&best);
+  if (!(var[axis_] >= 0.8 * var[best])) axis_ = best;
+  int b = (axis_ + 1) % 3;
+  int c = (axis_ + 2) % 3;
+  if (var[c] > var[b]) std::swap(b, c);
+  cell_axis_ = {b, c};
+
+  // Columns about two mean box widths wide: a box lies in ~(1.5)^2 columns on average, and a
+  // column holds a bounded number of boxes at constant density, so the sweep is ~O(n).
+  const Vec3 mean_extent = extent_sum / finite;
+  std::array<double, 2> count{1.0, 1.0};
+  for (int q = 0; q < 2; ++q) {
+    const int axis = cell_axis_[q];
+    const double width = 2.0 * mean_extent[axis];
+    const double range = hi[axis] - lo[axis];
+    if (width > 0.0 && range > 0.0) count[q] = std::min(std::floor(range / width) + 1.0, 1e6);
+  }
+  // At most about one column per box, so the column table never dominates.
+  const double cap = std::max(1.0, static_cast<double>(boxes.size()));
+  if (count[0] * count[1] > cap) {
+    const double shrink = std::sqrt(cap / (count[0] * count[1]));
+    count[0] = std::max(1.0, std::floor(count[0] * shrink));
+    count[1] = std::max(1.0, std::floor(count[1] * shrink));
+  }
+  for (int q = 0; q < 2; ++q) {
+    cell_origin_[q] = lo[cell_axis_[q]];
+    cell_range_[q] = hi[cell_axis_[q]] - lo[cell_axis_[q]];
+  }
+  setCellCounts(static_cast<int>(count[0]), static_cast<int>(count[1]));
+}
+
+void SweepAndPrune::setCellCounts(int count_b, int count_c) {
+  cell_count_ = {count_b, count_c};
+  for (int q = 0; q < 2; ++q)
+    cell_inv_width_[q] = cell_count_[q] > 1 ? cell_count_[q] / cell_range_[q] : 0.0;
+}
+
+void SweepAndPrune::sortKeys(std::span<const Aabb> boxes, bool coherent) {
+  const int a = axis_;
+  const int n = static_cast<int>(boxes.size());
+  incremental_ = false;
+  if (coherent) {
+    // Insertion sort from the previous order: O(n + swaps). Give up past a budget of moves.
+    for (Key& key : keys_) key.min = sweepKey(boxes[key.index].min[a]);
+    std::size_t budget = 8 * keys_.size() + 1024;
+    bool done = true;
+    for (int k = 1; k < n && done; ++k) {
+      const Key key = keys_[k];
+      int m = k;
+      while (m > 0 && keyLess(key.min, key.index, keys_[m - 1].min, keys_[m - 1].index)) {
+        keys_[m] = keys_[m - 1];
+        --m;
+        if (--budget == 0) {
+          done = false;
+          break;
+        }
+      }
+      keys_[m] = key;
+    }
+    incremental_ = done;
+    if (done) return;
+  } else {
+    keys_.resize(boxes.size());
+    for (int i = 0; i < n; ++i) keys_[i] = Key{sweepKey(boxes[i].min[a]), i};
+  }
+  std::sort(keys_.begin(), keys_.end(),
+            [](const Key& x, const Key& y) { return keyLess(x.min, x.index, y.min, y.index); });
+}
+
+int SweepAndPrune::cellOf(int q, double x) const {
+  const double t = (x - cell_origin_[q]) * cell_inv_width_[q];
+  if (!(t > 0.0)) return 0;  // also NaN (e.g. infinity * 0 when there is one column)
+  if (t >= cell_count_[q]) return cell_count_[q] - 1;
+  return static_cast<int>(t);
+}
+
+void SweepAndPrune::buildCells(std::span<const Aabb> boxes) {
+  // Counting sort of the boxes into columns, visiting them in sweep order so that every column
+  // comes out already sorted along the sweep axis.
+  const int b = cell_axis_[0];
+  const int c = cell_axis_[1];
+  auto range = [&](const Aabb& box, int& b0, int& b1, int& c0, int& c1) {
+    b0 = cellOf(0, box.min[b]);
+    b1 = cellOf(0, box.max[b]);
+    c0 = cellOf(1, box.min[c]);
+    c1 = cellOf(1, box.max[c]);
+  };
+  int b0 = 0, b1 = 0, c0 = 0, c1 = 0;
+  // A few very large boxes among many small ones would be copied into very many columns: keep
+  // the copies within a multiple of n by coarsening the grid (down to a single sweep if need be).
+  const double max_entries = 8.0 * static_cast<double>(keys_.size()) + 1024.0;
+  while (cell_count_[0] * cell_count_[1] > 1) {
+    double entries = 0.0;
+    for (const Key& key : keys_) {
+      range(boxes[key.index], b0, b1, c0, c1);
+      entries += std::max(0, b1 - b0 + 1) * static_cast<double>(std::max(0, c1 - c0 + 1));
+    }
+    if (entries <= max_entries) break;
+    setCellCounts((cell_count_[0] + 1) / 2, (cell_count_[1] + 1) / 2);
+  }
+  const int cells = cell_count_[0] * cell_count_[1];
+  cell_begin_.assign(static_cast<std::size_t>(cells) + 1, 0);
+  for (const Key& key : keys_) {
+    range(boxes[key.index], b0, b1, c0, c1);
+    for (int i = b0; i <= b1; ++i)
+      for (int j = c0; j <= c1; ++j) ++cell_begin_[i * cell_count_[1] + j + 1];
+  }
+  for (int cell = 0; cell < cells; ++cell) cell_begin_[cell + 1] += cell_begin_[cell];
+  entries_.resize(static_cast<std::size_t>(cell_begin_[cells]));
+  cell_fill_.assign(cell_begin_.begin(), cell_begin_.end() - 1);
+  for (const Key& key : keys_) {
+    const Aabb& box = boxes[key.index];
+    range(box, b0, b1, c0, c1);
+    for (int i = b0; i <= b1; ++i)
+      for (int j = c0; j <= c1; ++j)
+        entries_[cell_fill_[i * cell_count_[1] + j]++] = {box, key.index};
+  }
+}
+
+}  // namespace linx::collision
