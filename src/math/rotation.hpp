@@ -23,12 +23,4 @@ double twistAngle(const Quat& q, const Vec3& a);
 /// Two unit vectors that make (a, t1, t2) a right-handed orthonormal basis; a must be unit.
 void orthonormalBasis(const Vec3& a, Vec3& t1, Vec3& t2);
 
-/// Whether every coefficient is finite.
-inline bool isFinite(const Vec3& v) {
-  return v.allFinite();
-}
-inline bool isFinite(const Quat& q) {
-  return q.coeffs().allFinite();
-}
-
 }  // namespace linx::math

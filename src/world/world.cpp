@@ -40,12 +40,6 @@ World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
-namespace {
-bool finite(const Mat3& m) {
-  return m.allFinite();
-}
-}  // namespace
-
 BodyId World::createBody(const BodyDef& def) {
   if (findBody(def.name))
     throw std::invalid_argument(fmt::format("duplicate body name '{}'", def.name));
@@ -57,7 +51,7 @@ BodyId World::createBody(const BodyDef& def) {
     if (!(def.mass > 0.0) || !std::isfinite(def.mass))
       throw std::invalid_argument("mass: must be finite and > 0");
     const Mat3 sym = 0.5 * (def.inertia + def.inertia.transpose());
-    if (!finite(def.inertia) || sym.llt().info() != Eigen::Success)
+    if (!def.inertia.allFinite() || sym.llt().info() != Eigen::Success)
       throw std::invalid_argument("inertia: must be finite, symmetric and positive definite");
   }
   bodies_.emplace_back(def);
