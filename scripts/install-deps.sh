@@ -4,7 +4,8 @@
 set -euo pipefail
 
 packages=(build-essential cmake ninja-build pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
-          libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev)
+          libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libqhull-dev
+          libtinyobjloader-dev)
 if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev); fi
 
 missing=()

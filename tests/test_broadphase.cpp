@@ -113,6 +113,8 @@ std::vector<Vec3> surfaceSamples(const ShapeDef& s, const Quat& q) {
                          0.5 * s.length);
       }
       break;
+    default:  // planes, hulls and meshes are tested with their own AABBs
+      break;
   }
   return pts;
 }
@@ -379,6 +381,7 @@ struct Timing {
   double fresh = 0.0;     // new SweepAndPrune: full std::sort (median, s)
   double coherent = 0.0;  // same object, boxes moved a little between calls (median, s)
   std::size_t pairs = 0;
+  std::size_t tests = 0;  // overlap tests of one update: the work, independent of the machine
 };
 
 Timing timeUpdates(int n, int runs, std::vector<Aabb>* out_boxes = nullptr) {
@@ -393,6 +396,7 @@ Timing timeUpdates(int n, int runs, std::vector<Aabb>* out_boxes = nullptr) {
     sap.update(boxes);
     fresh.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
     timing.pairs = sap.pairs().size();
+    timing.tests = sap.lastTests();
   }
   SweepAndPrune sap;
   sap.update(boxes);
@@ -428,8 +432,13 @@ TEST(SweepAndPrune, ScalesLikeNLogN) {
               t_big.fresh / t_small.fresh, t_big.coherent / t_small.coherent);
   EXPECT_GT(t_big.pairs, static_cast<std::size_t>(big));  // "a few" overlaps per box
   EXPECT_LT(t_big.pairs, static_cast<std::size_t>(5 * big));
-  EXPECT_LT(t_big.fresh / t_small.fresh, 30.0);
-  EXPECT_LT(t_big.coherent / t_small.coherent, 30.0);
+  // The bound is on the work, which the shared machine's load cannot change: the overlap tests grow
+  // about as n (each box meets the few boxes of its column that follow it along the sweep), far
+  // from a single sweep's n^(5/3) (46x) or all pairs' n^2 (100x). The times are printed above.
+  std::printf("[ broadphase ] overlap tests: %zu at n = %d, %zu at n = %d: %.1fx\n", t_small.tests,
+              small, t_big.tests, big,
+              static_cast<double>(t_big.tests) / static_cast<double>(t_small.tests));
+  EXPECT_LT(static_cast<double>(t_big.tests) / static_cast<double>(t_small.tests), 15.0);
 
   // The pair set at 10,000 boxes equals all-pairs (50M tests, once).
   SweepAndPrune sap;

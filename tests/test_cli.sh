@@ -83,7 +83,7 @@ case "$case_name" in
         fail "unexpected summary for $scene"
     done
     expect 0 "$linx" check good.json
-    [ "$(cat out.txt)" = "good.json: ok: 1 body, 1 joint, timestep 0.001 s, duration 0.01 s (10 steps), solver exact" ] ||
+    [ "$(cat out.txt)" = "good.json: ok: 1 body, 1 joint, timestep 0.001 s, duration 0.01 s (10 steps), solver auto" ] ||
       fail "unexpected summary"
     ;;
 

@@ -423,7 +423,7 @@ TEST(SceneError, Solver) {
   expectErrors({
       {[](json& s) { s["solver"] = "pgs"; }, "solver", "expected an object, got a string"},
       {[](json& s) { s["solver"]["type"] = "fast"; }, "solver.type",
-       "unknown solver type 'fast' (expected \"exact\" or \"pgs\")"},
+       "unknown solver type 'fast' (expected \"auto\", \"exact\" or \"pgs\")"},
       {[](json& s) { s["solver"]["iteration"] = 5; }, "solver.iteration",
        "unknown field (did you mean 'iterations'?)"},
       {[](json& s) { s["solver"]["iterations"] = 0; }, "solver.iterations",
@@ -449,6 +449,24 @@ TEST(SceneError, Solver) {
   });
 }
 
+// A body without a mass takes it from its shapes' densities: two 1 m cubes of 1000 and 3000 kg/m^3
+// side by side have their centre of mass at x = 0.25 (by moments: (1000 (-0.5) + 3000 (0.5)) /
+// 4000); the body moves there and the shapes stay where they were in the world.
+TEST(SceneReader, MassFromShapeDensities) {
+  const linx::Scene scene = linx::parseScene(R"({
+    "bodies": [{"name": "pair", "position": [1, 0, 0], "shapes": [
+      {"type": "box", "size": [1, 1, 1], "position": [-0.5, 0, 0], "density": 1000},
+      {"type": "box", "size": [1, 1, 1], "position": [0.5, 0, 0], "density": 3000}]}]})",
+                                             "scene.json");
+  const linx::BodyDef& b = scene.bodies[0];
+  EXPECT_DOUBLE_EQ(b.mass, 4000.0);
+  EXPECT_NEAR(b.position.x(), 1.25, 1e-12);
+  EXPECT_NEAR(b.shapes[0].position.x(), -0.75, 1e-12);
+  EXPECT_NEAR(b.shapes[1].position.x(), 0.25, 1e-12);
+  // Izz about the centre of mass: each cube m/6 plus m d^2 (d = 0.75 and 0.25).
+  EXPECT_NEAR(b.inertia(2, 2), 1000.0 / 6 + 1000 * 0.5625 + 3000.0 / 6 + 3000 * 0.0625, 1e-9);
+}
+
 TEST(SceneError, Bodies) {
   expectErrors({
       {[](json& s) { s["bodies"][0] = 5; }, "bodies[0]", "expected an object, got a number"},
@@ -462,6 +480,11 @@ TEST(SceneError, Bodies) {
       {[](json& s) { s["bodies"][1]["name"] = "a"; }, "bodies[1].name",
        "duplicate body name 'a' (also bodies[0])"},
       {[](json& s) { s["bodies"][0].erase("mass"); }, "bodies[0].mass", "missing required field"},
+      {[](json& s) {
+         s["bodies"][0].erase("mass");
+         s["bodies"][0]["shapes"] = json::parse(R"([{"type": "sphere", "radius": 1}])");
+       },
+       "bodies[0].shapes[0].density", "missing required field (the body gives no mass"},
       {[](json& s) { s["bodies"][0]["mass"] = 0; }, "bodies[0].mass", "must be > 0, got 0"},
       {[](json& s) { s["bodies"][0]["mass"] = -2; }, "bodies[0].mass", "must be > 0, got -2"},
       {[](json& s) { s["bodies"][1]["static"] = true, s["bodies"][1]["mass"] = 0; },
@@ -519,7 +542,8 @@ TEST(SceneError, Shapes) {
       {shape(R"(1)"), "bodies[1].shapes[0]", "expected an object, got a number"},
       {shape(R"({"radius": 1})"), "bodies[1].shapes[0].type", "missing required field"},
       {shape(R"({"type": "cone"})"), "bodies[1].shapes[0].type",
-       "unknown shape type 'cone' (expected sphere, box, capsule or cylinder)"},
+       "unknown shape type 'cone' (expected sphere, box, capsule, cylinder, plane, convex or "
+       "mesh)"},
       {shape(R"({"type": "sphere", "radious": 1})"), "bodies[1].shapes[0].radious",
        "unknown field (did you mean 'radius'?)"},
       {shape(R"({"type": "sphere"})"), "bodies[1].shapes[0].radius", "missing required field"},
@@ -540,6 +564,23 @@ TEST(SceneError, Shapes) {
        "must be > 0, got 0"},
       {shape(R"({"type": "sphere", "radius": 1, "orientation": [0, 0, 0, 0]})"),
        "bodies[1].shapes[0].orientation", "must not be zero"},
+      {shape(R"({"type": "sphere", "radius": 1, "friction": -0.1})"),
+       "bodies[1].shapes[0].friction", "must be >= 0, got -0.1"},
+      {shape(R"({"type": "sphere", "radius": 1, "restitution": 1.5})"),
+       "bodies[1].shapes[0].restitution", "must be between 0 and 1, got 1.5"},
+      {shape(R"({"type": "sphere", "radius": 1, "group": 1.5})"), "bodies[1].shapes[0].group",
+       "must be an integer in [0, 4294967295]"},
+      {shape(R"({"type": "plane", "normal": [0, 0, 1]})"), "bodies[1].shapes[0].type",
+       "a plane belongs on a static body"},
+      {shape(R"({"type": "plane", "radius": 1})"), "bodies[1].shapes[0].radius",
+       "not used by a plane shape"},
+      {shape(R"({"type": "convex", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]})"),
+       "bodies[1].shapes[0].points", "needs at least 4 points, got 3"},
+      {shape(R"({"type": "mesh", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                 "triangles": [[0, 1, 3]]})"),
+       "bodies[1].shapes[0].triangles[0][2]", "must be a point index in [0, 3), got 3"},
+      {shape(R"({"type": "mesh", "file": "no_such_terrain.obj"})"), "bodies[1].shapes[0].file",
+       "no_such_terrain.obj"},
   });
 }
 

@@ -1,5 +1,5 @@
 // The `linx` command line (docs/scene-format.md, "Command line"):
-//   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--every N]
+//   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--every N] [--contacts]
 //   linx check SCENE.json
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
@@ -53,6 +53,7 @@ struct RunOptions {
   std::string out;
   std::optional<double> duration, timestep;
   int every = 1;
+  bool contacts = false;
 };
 
 double positiveFlag(const char* flag, double value) {
@@ -120,7 +121,7 @@ int run(const RunOptions& options) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
 
-  linx::Recorder recorder(options.out);
+  linx::Recorder recorder(options.out, linx::RecorderOptions{.contacts = options.contacts});
   recorder.record(world);
   std::int64_t frames = 1;
   linx::cli::ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr, p.steps,
@@ -147,8 +148,8 @@ int run(const RunOptions& options) {
   }
   progress.clear();
   recorder.commit();
-  fmt::print("wrote 3 files to {} ({} frames, {} steps, t = {} s)\n", options.out, frames, p.steps,
-             world.time());
+  fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n", options.contacts ? 4 : 3,
+             options.out, frames, p.steps, world.time());
   return 0;
 }
 
@@ -181,6 +182,8 @@ int main(int argc, char** argv) {
       run_cmd->add_option("--timestep", timestep, "Step length (s), overrides the scene's");
   run_cmd->add_option("--every", options.every, "Record every N steps (and the last)")
       ->capture_default_str();
+  run_cmd->add_flag("--contacts", options.contacts,
+                    "Also write contacts.csv (every contact point of each recorded step)");
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a scene and summarize it");
   check_cmd->add_option("scene", options.scene, "Scene file (JSON)")->required();
 

@@ -42,6 +42,7 @@ struct JointDef {
   std::optional<JointMotor> motor = std::nullopt;    ///< sliders and hinges
   std::optional<double> erp = std::nullopt;          ///< overrides the world's error reduction
   std::optional<double> cfm = std::nullopt;  ///< overrides the world's constraint force mixing
+  bool collide = false;  ///< the two joined bodies' shapes still collide with each other
 };
 
 /// State of one of a joint's two bodies (the world frame: identity pose, zero velocity).

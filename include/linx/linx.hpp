@@ -2,6 +2,7 @@
 #pragma once
 
 #include <linx/body.hpp>
+#include <linx/contact.hpp>
 #include <linx/joint.hpp>
 #include <linx/mass_properties.hpp>
 #include <linx/recorder.hpp>

@@ -1,6 +1,7 @@
 // Mass properties of solid shapes of uniform density, and of compound bodies made of several.
 #pragma once
 
+#include <linx/body.hpp>
 #include <linx/shape.hpp>
 #include <linx/types.hpp>
 
@@ -25,5 +26,15 @@ MassProperties shapeMassProperties(const ShapeDef& shape, double density);
 
 /// The shapes together: total mass, common centre of mass, inertia about it.
 MassProperties combine(std::span<const MassProperties> parts);
+
+/// Whether a shape is a closed solid with a volume (all but planes and meshes).
+bool isSolid(ShapeType type);
+
+/// Gives a body the mass, centre of mass and inertia of its solid shapes at their densities. The
+/// body's position moves to the shapes' common centre of mass and the shapes are moved the other
+/// way in the body frame, so they stay where they were in the world. Throws std::invalid_argument
+/// naming the shape if a solid shape has no density (or a non-positive one), or if the body has
+/// no solid shape.
+void setMassFromShapes(BodyDef& body);
 
 }  // namespace linx

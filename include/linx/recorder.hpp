@@ -3,6 +3,7 @@
 //   DIR/joints.csv  time,joint,coordinate,error
 //   DIR/world.csv   time,kinetic_energy,potential_energy,total_energy,max_joint_error,
 //                   solver_iterations,residual
+//   DIR/contacts.csv time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse   (when asked for)
 // Files are written under temporary names and renamed by commit(), so an interrupted or failed
 // run never leaves half a file under the final names.
 #pragma once
@@ -14,10 +15,14 @@
 
 namespace linx {
 
+struct RecorderOptions {
+  bool contacts = false;  ///< also write contacts.csv: every contact point of each recorded step
+};
+
 class Recorder {
  public:
   /// Creates DIR if needed and opens the temporary files. Throws std::runtime_error on failure.
-  explicit Recorder(const std::filesystem::path& dir);
+  explicit Recorder(const std::filesystem::path& dir, const RecorderOptions& options = {});
   ~Recorder();  ///< removes the temporary files unless commit() was called
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;

@@ -6,12 +6,13 @@
 namespace linx {
 
 enum class SolverType {
+  Auto,   ///< per island: Exact without friction rows (mechanisms), Pgs with them (contacts)
   Exact,  ///< sparse factorization + active set: joints to round-off, closed loops included
   Pgs,    ///< projected Gauss-Seidel with warm starting
 };
 
 struct SolverSettings {
-  SolverType type = SolverType::Exact;
+  SolverType type = SolverType::Auto;
   int iterations = 100;      ///< PGS sweeps / exact active-set iterations, at most
   double tolerance = 1e-10;  ///< stop when the largest complementarity violation is below (m/s)
   double erp = 0.2;          ///< error reduction per step, [0, 1]

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <linx/body.hpp>
+#include <linx/contact.hpp>
 #include <linx/joint.hpp>
 #include <linx/solver.hpp>
 #include <linx/types.hpp>
@@ -9,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -36,7 +38,9 @@ class NonFiniteState : public std::runtime_error {
 struct WorldSettings {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< (m/s^2), world frame
   double timestep = 1e-3;                ///< (s)
-  SolverSettings solver;
+  SolverSettings solver{};
+  ContactSettings contact{};
+  SleepSettings sleep{};
 };
 
 struct JointId {
@@ -76,6 +80,16 @@ class World {
   const Joint& joint(JointId id) const;
   std::optional<BodyId> findBody(std::string_view name) const;
   std::optional<JointId> findJoint(std::string_view name) const;
+
+  /// Whether the body sleeps: its island has been at rest for settings().sleep.time seconds.
+  /// A sleeping body is not integrated until a body of its island moves again. Giving it a
+  /// velocity or a load wakes it; after moving it with setPose, call wake().
+  bool isAsleep(BodyId id) const;
+  /// Wakes the body (and, at the next step, its island).
+  void wake(BodyId id);
+
+  /// The contact points of the last step, with their impulses.
+  std::span<const Contact> contacts() const;
 
   /// Advances by settings().timestep. Throws NonFiniteState when the state stops being finite.
   void step();

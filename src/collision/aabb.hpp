@@ -54,12 +54,13 @@ struct Aabb {
 /// orientation are in the body frame; capsules and cylinders are along the shape's local z;
 /// box size is full edge lengths. With R the shape-to-world rotation, the half extent along world
 /// axis i is: sphere r; box sum_j |R_ij| s_j / 2; capsule |R_iz| L/2 + r; cylinder
-/// |R_iz| L/2 + r sqrt(1 - R_iz^2) (the rim circle's extent along axis i).
+/// |R_iz| L/2 + r sqrt(1 - R_iz^2) (the rim circle's extent along axis i). Hulls and meshes bound
+/// their points; a plane is unbounded except below it when its normal is a world axis.
 inline Aabb shapeAabb(const ShapeDef& shape, const Pose& body_pose) {
   const Vec3 centre = body_pose.toWorld(shape.position);
   const Mat3 R = (body_pose.orientation * shape.orientation).normalized().toRotationMatrix();
   const Vec3 axis_z = R.col(2).cwiseAbs();
-  Vec3 half;
+  Vec3 half = Vec3::Zero();
   switch (shape.type) {
     case ShapeType::Sphere:
       half = Vec3::Constant(shape.radius);
@@ -76,9 +77,28 @@ inline Aabb shapeAabb(const ShapeDef& shape, const Pose& body_pose) {
         half[i] = 0.5 * shape.length * c + shape.radius * std::sqrt(std::max(0.0, 1.0 - c * c));
       }
       break;
-    default:
-      half = Vec3::Zero();
-      break;
+    case ShapeType::Plane: {
+      // Unbounded, except below an axis-aligned plane: the half space n . x <= offset.
+      Aabb box{Vec3::Constant(-kInfinity), Vec3::Constant(kInfinity)};
+      const Vec3 n = (R * shape.normal).normalized();
+      const double offset = shape.offset + n.dot(centre);
+      for (int i = 0; i < 3; ++i) {
+        if (n[i] == 1.0) box.max[i] = offset;
+        if (n[i] == -1.0) box.min[i] = -offset;
+      }
+      return box;
+    }
+    case ShapeType::Convex:
+    case ShapeType::Mesh: {
+      if (shape.points.empty()) return Aabb::fromCentre(centre, Vec3::Zero());
+      Aabb box{Vec3::Constant(kInfinity), Vec3::Constant(-kInfinity)};
+      for (const Vec3& p : shape.points) {
+        const Vec3 w = centre + R * p;
+        box.min = box.min.cwiseMin(w);
+        box.max = box.max.cwiseMax(w);
+      }
+      return box;
+    }
   }
   return Aabb::fromCentre(centre, half);
 }

@@ -24,6 +24,7 @@ bool keyLess(double a_min, int a_index, double b_min, int b_index) {
 
 void SweepAndPrune::update(std::span<const Aabb> boxes) {
   pairs_.clear();
+  tests_ = 0;
   const int previous_axis = axis_;
   const bool same_count = keys_.size() == boxes.size();
   chooseAxes(boxes);
@@ -43,6 +44,7 @@ void SweepAndPrune::update(std::span<const Aabb> boxes) {
       const double hi = box_k.max[a];
       for (int m = k + 1; m < end && !(entries_[m].box.min[a] > hi); ++m) {
         const Aabb& box_m = entries_[m].box;
+        ++tests_;
         if (!box_k.overlaps(box_m)) continue;
         // Report the pair only in the column holding the start of its overlap: exactly once.
         const int cb = cellOf(0, std::max(box_k.min[b], box_m.min[b]));

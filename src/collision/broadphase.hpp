@@ -45,6 +45,9 @@ class SweepAndPrune {
   /// The two column axes and the number of columns along each, used by the last update.
   const std::array<int, 2>& cellAxes() const { return cell_axis_; }
   const std::array<int, 2>& cellCounts() const { return cell_count_; }
+  /// Box-box overlap tests made by the last update's sweep: the work it did, a machine-independent
+  /// measure of its cost (all pairs would be n (n - 1) / 2).
+  std::size_t lastTests() const { return tests_; }
   /// True when the last update repaired the previous order by insertion sort (coherent path).
   bool lastUpdateIncremental() const { return incremental_; }
 
@@ -76,6 +79,7 @@ class SweepAndPrune {
   std::array<double, 2> cell_range_{0.0, 0.0};  // of the finite centres along each cell axis
   std::array<double, 2> cell_inv_width_{0.0, 0.0};
   bool incremental_ = false;
+  std::size_t tests_ = 0;
 };
 
 }  // namespace linx::collision

@@ -1,8 +1,17 @@
 // Closed forms for solids of revolution and boxes (shape frame, about the shape's centre), moved
-// into the body frame by the shape's pose, and combined with the parallel-axis theorem.
+// into the body frame by the shape's pose, and combined with the parallel-axis theorem. A convex
+// hull's volume, centroid and inertia come from tetrahedra over its faces (collision/geometry.hpp);
+// its points need not be centred: the centre of mass is the hull's centroid placed by the pose.
 #include <linx/mass_properties.hpp>
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include "collision/geometry.hpp"
 
 namespace linx {
 
@@ -37,6 +46,10 @@ Vec3 moments(const ShapeDef& s, double m) {
           mc * (L * L / 12.0 + r2 / 4.0) + ms * (0.4 * r2 + L * L / 4.0 + 3.0 * L * r / 8.0);
       return Vec3(side, side, 0.5 * mc * r2 + 0.4 * ms * r2);
     }
+    case ShapeType::Plane:
+    case ShapeType::Convex:
+    case ShapeType::Mesh:
+      break;  // not solids of a closed form: see shapeVolume / shapeMassProperties
   }
   return Vec3::Zero();
 }
@@ -57,12 +70,27 @@ double shapeVolume(const ShapeDef& s) {
       return kPi * r * r * s.length;
     case ShapeType::Capsule:
       return kPi * r * r * s.length + 4.0 / 3.0 * kPi * r * r * r;
+    case ShapeType::Plane:
+    case ShapeType::Mesh:
+      throw std::invalid_argument(fmt::format(
+          "a {} shape has no volume (it belongs on a static body)", shapeTypeName(s.type)));
+    case ShapeType::Convex:
+      return collision::Geometry::convexHull(s.points)->volume();
   }
   return 0.0;
 }
 
 MassProperties shapeMassProperties(const ShapeDef& shape, double density) {
   MassProperties p;
+  if (shape.type == ShapeType::Convex) {
+    // The hull's inertia per unit density about its centroid, rotated into the body frame.
+    const auto hull = collision::Geometry::convexHull(shape.points);
+    const Mat3 r = shape.orientation.normalized().toRotationMatrix();
+    p.mass = density * hull->volume();
+    p.center = shape.position + r * hull->centroid();
+    p.inertia = density * (r * hull->unitInertia() * r.transpose());
+    return p;
+  }
   p.mass = density * shapeVolume(shape);
   p.center = shape.position;
   const Mat3 r = shape.orientation.normalized().toRotationMatrix();
@@ -81,6 +109,28 @@ MassProperties combine(std::span<const MassProperties> parts) {
   for (const MassProperties& p : parts)
     total.inertia += p.inertia + parallelAxis(p.mass, p.center - total.center);
   return total;
+}
+
+bool isSolid(ShapeType type) {
+  return type != ShapeType::Plane && type != ShapeType::Mesh;
+}
+
+void setMassFromShapes(BodyDef& body) {
+  std::vector<MassProperties> parts;
+  for (std::size_t k = 0; k < body.shapes.size(); ++k) {
+    const ShapeDef& s = body.shapes[k];
+    if (!isSolid(s.type)) continue;
+    if (!s.density || !(*s.density > 0.0) || !std::isfinite(*s.density))
+      throw std::invalid_argument(
+          fmt::format("shapes[{}].density: a positive density is needed to compute the mass", k));
+    parts.push_back(shapeMassProperties(s, *s.density));
+  }
+  if (parts.empty()) throw std::invalid_argument("shapes: no solid shape to compute the mass from");
+  const MassProperties total = combine(parts);
+  body.mass = total.mass;
+  body.inertia = total.inertia;
+  body.position += body.orientation.normalized() * total.center;
+  for (ShapeDef& s : body.shapes) s.position -= total.center;
 }
 
 }  // namespace linx

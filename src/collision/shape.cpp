@@ -12,8 +12,18 @@ const char* shapeTypeName(ShapeType type) {
       return "capsule";
     case ShapeType::Cylinder:
       return "cylinder";
+    case ShapeType::Plane:
+      return "plane";
+    case ShapeType::Convex:
+      return "convex";
+    case ShapeType::Mesh:
+      return "mesh";
   }
   return "unknown";
+}
+
+bool isStaticOnly(ShapeType type) {
+  return type == ShapeType::Plane || type == ShapeType::Mesh;
 }
 
 }  // namespace linx

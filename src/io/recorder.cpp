@@ -23,14 +23,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum Output { kBodies, kJoints, kWorld, kOutputCount };
+enum Output { kBodies, kJoints, kWorld, kContacts, kOutputCount };
 
 constexpr std::array<std::string_view, kOutputCount> kFileNames = {"bodies.csv", "joints.csv",
-                                                                   "world.csv"};
+                                                                   "world.csv", "contacts.csv"};
 constexpr std::array<std::string_view, kOutputCount> kHeaders = {
     "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz",
     "time,joint,coordinate,error",
     "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual",
+    "time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse",
 };
 
 // A name as one CSV field: quoted when it holds a separator, a quote or a line break.
@@ -64,12 +65,14 @@ struct Recorder::Files {
     }
     if (keep) return;
     std::error_code ignored;
-    for (const fs::path& p : temp) fs::remove(p, ignored);
+    for (const fs::path& p : temp)
+      if (!p.empty()) fs::remove(p, ignored);
     for (const fs::path& d : created_dirs) fs::remove(d, ignored);  // only removes empty ones
   }
 };
 
-Recorder::Recorder(const fs::path& dir) : dir_(dir), files_(std::make_unique<Files>()) {
+Recorder::Recorder(const fs::path& dir, const RecorderOptions& options)
+    : dir_(dir), files_(std::make_unique<Files>()) {
   // Note which directories are missing, so that a run without a commit leaves no trace.
   std::error_code ec;
   for (fs::path d = fs::absolute(dir_, ec); !ec && !fs::exists(d, ec) && !ec; d = d.parent_path()) {
@@ -81,6 +84,7 @@ Recorder::Recorder(const fs::path& dir) : dir_(dir), files_(std::make_unique<Fil
     throw ioError("create the output directory", dir_, ec ? ec.value() : ENOTDIR);
   }
   for (int i = 0; i < kOutputCount; ++i) {
+    if (i == kContacts && !options.contacts) continue;
     files_->temp[i] = dir_ / fmt::format(".{}.tmp", kFileNames[i]);
     files_->file[i] = std::fopen(files_->temp[i].c_str(), "wb");
     if (!files_->file[i]) throw ioError("create", files_->temp[i], errno);
@@ -118,16 +122,27 @@ void Recorder::record(const World& world) {
   const SolverReport& report = world.lastReport();
   fmt::print(files_->file[kWorld], "{},{},{},{},{},{},{}\n", t, e.kinetic, e.potential, e.total(),
              world.maxJointError(), report.iterations, report.residual);
+
+  if (std::FILE* contacts = files_->file[kContacts]) {
+    for (const Contact& c : world.contacts()) {
+      fmt::print(contacts, "{},{},{},{},{},{},{},{},{},{},{}\n", t,
+                 csvField(world.body(c.body1).name()), csvField(world.body(c.body2).name()),
+                 c.point.x(), c.point.y(), c.point.z(), c.normal.x(), c.normal.y(), c.normal.z(),
+                 c.depth, c.normal_impulse);
+    }
+  }
 }
 
 void Recorder::commit() {
   if (committed_) return;
   for (int i = 0; i < kOutputCount; ++i) {
     std::FILE* f = std::exchange(files_->file[i], nullptr);
+    if (!f) continue;  // an output not asked for
     const bool failed = std::ferror(f) != 0;
     if (std::fclose(f) != 0 || failed) throw ioError("write", files_->temp[i], errno);
   }
   for (int i = 0; i < kOutputCount; ++i) {
+    if (files_->temp[i].empty()) continue;
     const fs::path final_path = dir_ / kFileNames[i];
     std::error_code ec;
     fs::rename(files_->temp[i], final_path, ec);

@@ -3,13 +3,16 @@
 // nothing is built until the whole file has been checked.
 #include <linx/mass_properties.hpp>
 #include <linx/scene.hpp>
+#include <linx/shape.hpp>
 
 #include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -18,6 +21,8 @@
 #include <sstream>
 #include <system_error>
 #include <utility>
+
+#include "io/mesh_file.hpp"
 
 namespace linx {
 
@@ -176,7 +181,7 @@ class Reader {
     const Node node{root, ""};
     if (!root.is_object())
       fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
-    allowOnly(node, {"gravity", "timestep", "duration", "solver", "bodies", "joints"});
+    allowOnly(node, {"gravity", "timestep", "duration", "solver", "contact", "bodies", "joints"});
 
     Scene scene;
     scene.file = file_;
@@ -184,6 +189,7 @@ class Reader {
     if (auto n = get(node, "timestep")) scene.settings.timestep = positive(*n);
     if (auto n = get(node, "duration")) scene.duration = positive(*n);
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
+    if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);
 
     const Node bodies = require(node, "bodies");
     expectArray(bodies);
@@ -233,6 +239,9 @@ class Reader {
 
   // Fails on the first key of the object `n` that is not in `allowed`.
   void allowOnly(const Node& n, std::initializer_list<std::string_view> allowed) const {
+    allowOnly(n, std::vector<std::string_view>(allowed));
+  }
+  void allowOnly(const Node& n, const std::vector<std::string_view>& allowed) const {
     expectObject(n);
     for (const auto& [key, value] : n.value.items()) {
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
@@ -366,13 +375,16 @@ class Reader {
     SolverSettings s;
     if (auto t = get(n, "type")) {
       const std::string type = string(*t);
-      if (type == "exact") {
+      if (type == "auto") {
+        s.type = SolverType::Auto;
+      } else if (type == "exact") {
         s.type = SolverType::Exact;
       } else if (type == "pgs") {
         s.type = SolverType::Pgs;
       } else {
         fail(t->path,
-             fmt::format("unknown solver type '{}' (expected \"exact\" or \"pgs\")", type));
+             fmt::format("unknown solver type '{}' (expected \"auto\", \"exact\" or \"pgs\")",
+                         type));
       }
     }
     if (auto v = get(n, "iterations")) s.iterations = integer(*v, 1);
@@ -393,48 +405,173 @@ class Reader {
     return s;
   }
 
+  ContactSettings contact(const Node& n) const {
+    allowOnly(n, {"enabled", "margin", "slop", "erp", "cfm", "stiffness", "damping",
+                  "restitution_threshold"});
+    ContactSettings c;
+    if (auto v = get(n, "enabled")) c.enabled = boolean(*v);
+    if (auto v = get(n, "margin")) c.margin = nonNegative(*v);
+    if (auto v = get(n, "slop")) c.slop = nonNegative(*v);
+    if (auto v = get(n, "erp")) c.erp = unitInterval(*v);
+    if (auto v = get(n, "cfm")) c.cfm = nonNegative(*v);
+    if (auto v = get(n, "restitution_threshold")) c.restitution_threshold = nonNegative(*v);
+    const auto k = get(n, "stiffness"), d = get(n, "damping");
+    if (k.has_value() != d.has_value())
+      fail(childPath(n.path, k ? "damping" : "stiffness"),
+           "missing required field (stiffness and damping go together)");
+    if (k) {
+      if (n.value.contains("erp") || n.value.contains("cfm"))
+        fail(childPath(n.path, n.value.contains("erp") ? "erp" : "cfm"),
+             "give either erp and cfm, or stiffness and damping");
+      c.stiffness = positive(*k);
+      c.damping = nonNegative(*d);
+    }
+    return c;
+  }
+
   ShapeDef shape(const Node& n) const {
-    allowOnly(n, {"type", "radius", "size", "length", "position", "orientation"});
+    expectObject(n);
     ShapeDef s;
     const Node type = require(n, "type");
     const std::string name = string(type);
-    if (name == "sphere") {
-      s.type = ShapeType::Sphere;
-    } else if (name == "box") {
-      s.type = ShapeType::Box;
-    } else if (name == "capsule") {
-      s.type = ShapeType::Capsule;
-    } else if (name == "cylinder") {
-      s.type = ShapeType::Cylinder;
-    } else {
-      fail(
-          type.path,
-          fmt::format("unknown shape type '{}' (expected sphere, box, capsule or cylinder)", name));
-    }
-    const bool box = s.type == ShapeType::Box;
-    const bool has_length = s.type == ShapeType::Capsule || s.type == ShapeType::Cylinder;
-    for (std::string_view key : {"radius", "size", "length"}) {
-      const bool used = key == "size" ? box : key == "radius" ? !box : has_length;
-      if (!used && n.value.contains(key)) {
+    static constexpr std::array kTypes{ShapeType::Sphere,   ShapeType::Box,   ShapeType::Capsule,
+                                       ShapeType::Cylinder, ShapeType::Plane, ShapeType::Convex,
+                                       ShapeType::Mesh};
+    const auto known = std::find_if(kTypes.begin(), kTypes.end(),
+                                    [&](ShapeType t) { return name == shapeTypeName(t); });
+    if (known == kTypes.end())
+      fail(type.path, fmt::format("unknown shape type '{}' (expected sphere, box, capsule, "
+                                  "cylinder, plane, convex or mesh)",
+                                  name));
+    s.type = *known;
+    // A field of another type of shape (a size on a sphere) is named as such.
+    static constexpr std::array<std::pair<std::string_view, std::array<ShapeType, 2>>, 8> kOwners{{
+        {"radius", {ShapeType::Sphere, ShapeType::Capsule}},
+        {"size", {ShapeType::Box, ShapeType::Box}},
+        {"length", {ShapeType::Capsule, ShapeType::Cylinder}},
+        {"normal", {ShapeType::Plane, ShapeType::Plane}},
+        {"offset", {ShapeType::Plane, ShapeType::Plane}},
+        {"points", {ShapeType::Convex, ShapeType::Mesh}},
+        {"triangles", {ShapeType::Mesh, ShapeType::Mesh}},
+        {"file", {ShapeType::Mesh, ShapeType::Mesh}},
+    }};
+    for (const auto& [key, owners] : kOwners) {
+      const bool used = owners[0] == s.type || owners[1] == s.type ||
+                        (key == "radius" && s.type == ShapeType::Cylinder);
+      if (!used && n.value.contains(key))
         fail(childPath(n.path, key), fmt::format("not used by a {} shape", name));
+    }
+    // The fields each type takes, then the common ones.
+    switch (s.type) {
+      case ShapeType::Sphere:
+        allowOnly(n, withCommon({"radius"}));
+        s.radius = positive(require(n, "radius"));
+        break;
+      case ShapeType::Box: {
+        allowOnly(n, withCommon({"size"}));
+        const Node size = require(n, "size");
+        s.size = vec3(size);
+        for (int i = 0; i < 3; ++i) positive({size.value[i], itemPath(size.path, i)});
+        break;
       }
-    }
-    if (box) {
-      const Node size = require(n, "size");
-      const Vec3 lengths = vec3(size);
-      for (int i = 0; i < 3; ++i) positive({size.value[i], itemPath(size.path, i)});
-      s.size = lengths;
-    } else {
-      s.radius = positive(require(n, "radius"));
-    }
-    if (has_length) {
-      const Node length = require(n, "length");
-      // A capsule of length 0 is a sphere; a cylinder needs a length.
-      s.length = s.type == ShapeType::Capsule ? nonNegative(length) : positive(length);
+      case ShapeType::Capsule:
+      case ShapeType::Cylinder: {
+        allowOnly(n, withCommon({"radius", "length"}));
+        s.radius = positive(require(n, "radius"));
+        const Node length = require(n, "length");
+        // A capsule of length 0 is a sphere; a cylinder needs a length.
+        s.length = s.type == ShapeType::Capsule ? nonNegative(length) : positive(length);
+        break;
+      }
+      case ShapeType::Plane:
+        allowOnly(n, withCommon({"normal", "offset"}));
+        if (auto v = get(n, "normal")) s.normal = direction(*v);
+        if (auto v = get(n, "offset")) s.offset = number(*v);
+        break;
+      case ShapeType::Convex: {
+        allowOnly(n, withCommon({"points"}));
+        s.points = points(require(n, "points"), 4);
+        break;
+      }
+      case ShapeType::Mesh:
+        allowOnly(n, withCommon({"file", "points", "triangles"}));
+        mesh(n, s);
+        break;
     }
     if (auto v = get(n, "position")) s.position = vec3(*v);
     if (auto v = get(n, "orientation")) s.orientation = orientation(*v);
+    if (auto v = get(n, "density")) s.density = positive(*v);
+    if (auto v = get(n, "friction")) s.friction = nonNegative(*v);
+    if (auto v = get(n, "restitution")) s.restitution = unitInterval(*v);
+    if (auto v = get(n, "group")) s.group = static_cast<std::uint32_t>(bits(*v));
+    if (auto v = get(n, "mask")) s.mask = static_cast<std::uint32_t>(bits(*v));
+    if (!isSolid(s.type) && s.density)
+      fail(childPath(n.path, "density"), fmt::format("a {} has no volume", name));
     return s;
+  }
+
+  static std::vector<std::string_view> withCommon(std::initializer_list<std::string_view> own) {
+    std::vector<std::string_view> all{"type",     "position",    "orientation", "density",
+                                      "friction", "restitution", "group",       "mask"};
+    all.insert(all.end(), own.begin(), own.end());
+    return all;
+  }
+
+  // A 32-bit collision group or mask: an integer in [0, 2^32).
+  double bits(const Node& n) const {
+    const double x = number(n);
+    if (x != std::floor(x) || x < 0 || x > 4294967295.0)
+      fail(n.path, fmt::format("must be an integer in [0, 4294967295], got {}", n.value.dump()));
+    return x;
+  }
+
+  std::vector<Vec3> points(const Node& n, std::size_t at_least) const {
+    expectArray(n);
+    if (n.value.size() < at_least)
+      fail(n.path, fmt::format("needs at least {} points, got {}", at_least, n.value.size()));
+    std::vector<Vec3> out;
+    for (std::size_t i = 0; i < n.value.size(); ++i)
+      out.push_back(vec3({n.value[i], itemPath(n.path, i)}));
+    return out;
+  }
+
+  // A mesh from a file (OBJ or STL, relative to the scene file) or given inline.
+  void mesh(const Node& n, ShapeDef& s) const {
+    const auto file = get(n, "file");
+    if (file) {
+      for (std::string_view key : {"points", "triangles"})
+        if (n.value.contains(key))
+          fail(childPath(n.path, key), "give either a file or points and triangles");
+      const std::filesystem::path path = std::filesystem::path(file_).parent_path() / string(*file);
+      ShapeDef loaded;
+      try {
+        loaded = io::loadMeshFile(path.string());
+      } catch (const std::exception& e) {
+        fail(file->path, e.what());
+      }
+      s.points = std::move(loaded.points);
+      s.triangles = std::move(loaded.triangles);
+      s.file = string(*file);
+      return;
+    }
+    s.points = points(require(n, "points"), 3);
+    const Node triangles = require(n, "triangles");
+    expectArray(triangles);
+    if (triangles.value.empty()) fail(triangles.path, "needs at least one triangle");
+    for (std::size_t t = 0; t < triangles.value.size(); ++t) {
+      const Node tri{triangles.value[t], itemPath(triangles.path, t)};
+      const Vec3 idx = vec3(tri);
+      std::array<int, 3> v{};
+      for (int k = 0; k < 3; ++k) {
+        if (idx[k] != std::floor(idx[k]) || idx[k] < 0 ||
+            idx[k] >= static_cast<double>(s.points.size()))
+          fail(itemPath(tri.path, static_cast<std::size_t>(k)),
+               fmt::format("must be a point index in [0, {}), got {}", s.points.size(),
+                           tri.value[static_cast<std::size_t>(k)].dump()));
+        v[static_cast<std::size_t>(k)] = static_cast<int>(idx[k]);
+      }
+      s.triangles.push_back(v);
+    }
   }
 
   BodyDef body(const Node& n) const {
@@ -464,18 +601,41 @@ class Reader {
     }
 
     // Static bodies never move: their mass and inertia are checked when given, never needed.
+    for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+      if (isStaticOnly(b.shapes[k].type) && !b.is_static)
+        fail(childPath(itemPath(childPath(n.path, "shapes"), k), "type"),
+             fmt::format("a {} belongs on a static body (\"static\": true)",
+                         shapeTypeName(b.shapes[k].type)));
+    }
     const auto mass = get(n, "mass");
+    const bool solid = std::any_of(b.shapes.begin(), b.shapes.end(),
+                                   [](const ShapeDef& s) { return isSolid(s.type); });
     if (mass) {
       b.mass = positive(*mass);
     } else if (!b.is_static) {
-      fail(childPath(n.path, "mass"), "missing required field");
+      // The mass, centre of mass and inertia of the shapes at their densities.
+      if (!solid) fail(childPath(n.path, "mass"), "missing required field");
+      for (std::size_t k = 0; k < b.shapes.size(); ++k) {
+        if (isSolid(b.shapes[k].type) && !b.shapes[k].density)
+          fail(childPath(itemPath(childPath(n.path, "shapes"), k), "density"),
+               "missing required field (the body gives no mass: every shape needs a density)");
+      }
+      if (n.value.contains("inertia"))
+        fail(childPath(n.path, "inertia"), "give the mass with the inertia, or neither");
+      setMassFromShapes(b);
+      return b;
     }
     if (auto v = get(n, "inertia")) {
       b.inertia = inertia(*v);
-    } else if (!b.shapes.empty()) {
-      // A solid of the body's mass, about the body origin (docs/scene-format.md).
-      const ShapeDef& shape = b.shapes.front();
-      b.inertia = shapeMassProperties(shape, b.mass / shapeVolume(shape)).inertiaAboutOrigin();
+    } else if (solid) {
+      // Solids of the body's mass at one density, about the body origin (docs/scene-format.md).
+      double volume = 0.0;
+      for (const ShapeDef& s : b.shapes)
+        if (isSolid(s.type)) volume += shapeVolume(s);
+      std::vector<MassProperties> parts;
+      for (const ShapeDef& s : b.shapes)
+        if (isSolid(s.type)) parts.push_back(shapeMassProperties(s, b.mass / volume));
+      b.inertia = combine(parts).inertiaAboutOrigin();
     } else if (!b.is_static) {
       fail(childPath(n.path, "inertia"),
            "missing required field (give the inertia, or a shape to compute it from)");
@@ -485,8 +645,8 @@ class Reader {
 
   SceneJoint joint(const Node& n, const std::vector<BodyDef>& bodies,
                    const std::map<std::string, std::size_t>& body_index) const {
-    allowOnly(
-        n, {"name", "type", "body1", "body2", "anchor", "axis", "limits", "motor", "erp", "cfm"});
+    allowOnly(n, {"name", "type", "body1", "body2", "anchor", "axis", "limits", "motor", "erp",
+                  "cfm", "collide"});
     SceneJoint joint;
     JointDef& d = joint.def;
     const Node name = require(n, "name");
@@ -558,6 +718,7 @@ class Reader {
     }
     if (auto v = get(n, "erp")) d.erp = unitInterval(*v);
     if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
+    if (auto v = get(n, "collide")) d.collide = boolean(*v);
     return joint;
   }
 

@@ -114,6 +114,7 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
   if (n == 0) return report;
   sys_.build(p);
   buildMatrix(p);
+  guess_.assign(p.lambda.begin(), p.lambda.end());  // the warm start, for the fallback below
 
   // Initial states from the guess: rows at a finite bound start there.
   state_.assign(n, State::Free);
@@ -181,12 +182,18 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
     }
   }
 
-  if (!report.converged) {  // at the iteration cap: never apply an impulse outside its bounds
-    for (std::size_t k = 0; k < n; ++k) {
-      double lo, hi;
-      RowSystem::bounds(p.rows, p.lambda, k, lo, hi);
-      p.lambda[k] = std::clamp(p.lambda[k], lo, hi);
-    }
+  if (!report.converged) {
+    // At the iteration cap. This happens with friction: its bounds follow the normal impulses,
+    // which are not unique when normal rows are redundant (a box on four contact points), so the
+    // active set can cycle, and its iterate may be far from any solution. Solve by projected
+    // Gauss-Seidel from the warm start instead: it always returns impulses within their bounds
+    // (the report counts both solvers' iterations).
+    std::copy(guess_.begin(), guess_.end(), p.lambda.begin());
+    const SolverReport polish = pgs_.solve(p, settings);
+    report.iterations += polish.iterations;
+    report.residual = polish.residual;
+    report.converged = polish.converged;
+    return report;
   }
   for (std::size_t k = 0; k < n; ++k)
     if (p.lambda[k] != 0.0) sys_.apply(p.rows[k], k, p.lambda[k], p.bodies);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "solver/pgs_solver.hpp"
 #include "solver/problem.hpp"
 #include "solver/row_system.hpp"
 
@@ -33,6 +34,8 @@ class ExactSolver final : public ConstraintSolver {
   std::vector<State> state_;
   std::vector<int> free_index_;
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt_;
+  std::vector<double> guess_;  // the initial impulses of the current solve
+  PgsSolver pgs_;  // finishes a solve whose active set did not settle within the iteration cap
 };
 
 }  // namespace linx::solver

@@ -24,7 +24,11 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   report.converged = false;
   for (int it = 0; it < settings.iterations; ++it) {
     double sweep_violation = 0.0;  // of each row as it is visited, before its update
-    for (std::size_t k = 0; k < n; ++k) {
+    // Sweeps alternate direction (symmetric Gauss-Seidel): a one-way sweep leaves a bias
+    // towards the rows it visits last, which tilts a symmetric pile of contacts.
+    const bool forward = it % 2 == 0;
+    for (std::size_t visit = 0; visit < n; ++visit) {
+      const std::size_t k = forward ? visit : n - 1 - visit;
       if (sys_.diag[k] <= 0.0) continue;  // a row that touches no movable body
       double lo, hi;
       RowSystem::bounds(p.rows, p.lambda, k, lo, hi);

@@ -1,12 +1,21 @@
 #include <linx/solver.hpp>
 
+#include "solver/auto_solver.hpp"
 #include "solver/exact_solver.hpp"
 #include "solver/pgs_solver.hpp"
 
 namespace linx {
 
 std::string_view solverTypeName(SolverType type) {
-  return type == SolverType::Exact ? "exact" : "pgs";
+  switch (type) {
+    case SolverType::Auto:
+      return "auto";
+    case SolverType::Exact:
+      return "exact";
+    case SolverType::Pgs:
+      return "pgs";
+  }
+  return "unknown";
 }
 
 SoftRow springDamper(double stiffness, double damping, double h) {
@@ -16,8 +25,15 @@ SoftRow springDamper(double stiffness, double damping, double h) {
 
 namespace solver {
 std::unique_ptr<ConstraintSolver> makeSolver(SolverType type) {
-  if (type == SolverType::Pgs) return std::make_unique<PgsSolver>();
-  return std::make_unique<ExactSolver>();
+  switch (type) {
+    case SolverType::Pgs:
+      return std::make_unique<PgsSolver>();
+    case SolverType::Exact:
+      return std::make_unique<ExactSolver>();
+    case SolverType::Auto:
+      break;
+  }
+  return std::make_unique<AutoSolver>();
 }
 }  // namespace solver
 

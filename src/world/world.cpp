@@ -2,11 +2,14 @@
 // (docs/architecture.md lists the same):
 //   1. velocities   u* = u + h M^-1 (f_ext - gyroscopic)          dynamics/integrator
 //   2. assembly     joints -> rows (count, allocate, fill, verify)  world/assembly
-//   3. warm start   impulses of the previous step, by row key
+//                   shapes -> contact points -> contact rows        world/contact_stage
+//   3. warm start   impulses of the previous step, by row key (contacts by feature id)
 //   4. solve        the boxed LCP for lambda, u+ = u* + M^-1 J^T lambda   solver/
 //   5. positions    x += h v+, q = exp(h w+) q                     dynamics/integrator
 //   6. projection   optional post-stabilization of joint errors    world/projection
 //   7. tracking     joints follow their history (a hinge counts turns)
+//   8. sleeping     islands at rest for a while fall asleep          world/sleep
+// Islands (bodies linked by this step's rows) are solved one by one, sleeping ones not at all.
 // then loads are cleared and the state is checked to be finite.
 #include <linx/world.hpp>
 
@@ -14,7 +17,11 @@
 #include "dynamics/integrator.hpp"
 #include "solver/problem.hpp"
 #include "world/assembly.hpp"
+#include "world/contact_stage.hpp"
+#include "world/island_solver.hpp"
+#include "world/islands.hpp"
 #include "world/projection.hpp"
+#include "world/sleep.hpp"
 
 #include <fmt/format.h>
 
@@ -29,9 +36,16 @@ struct World::Impl {
   std::vector<Row> rows;
   std::vector<solver::SolverBody> solver_bodies;
   std::vector<double> lambda;
-  std::unordered_map<std::uint64_t, double> warm;  // row key -> last impulse
+  std::unordered_map<std::uint64_t, double> warm;  // joint row key -> last impulse
+  world::ContactStage contact;
+  world::Islands islands;
+  world::IslandWorkspace island_work;
+  world::SleepTracker sleep;
+  std::vector<std::pair<int, int>> links;
+  std::vector<std::uint8_t> movable, was_asleep, may_sleep;
+  std::vector<double> lambda0;  // the warm-start impulses, kept for sleeping islands
   std::unique_ptr<solver::ConstraintSolver> solver;
-  SolverType solver_type = SolverType::Exact;  // what `solver` is
+  SolverType solver_type = SolverType::Auto;  // what `solver` is
 };
 
 World::World(const WorldSettings& settings)
@@ -54,7 +68,24 @@ BodyId World::createBody(const BodyDef& def) {
     if (!def.inertia.allFinite() || sym.llt().info() != Eigen::Success)
       throw std::invalid_argument("inertia: must be finite, symmetric and positive definite");
   }
-  bodies_.emplace_back(def);
+  for (std::size_t k = 0; k < def.shapes.size(); ++k) {
+    const ShapeDef& s = def.shapes[k];
+    auto bad = [&](const std::string& what) {
+      return std::invalid_argument(
+          fmt::format("shapes[{}] ({}): {}", k, shapeTypeName(s.type), what));
+    };
+    if (isStaticOnly(s.type) && !def.is_static) throw bad("only a static body may carry it");
+    if (!(s.friction >= 0.0) || !std::isfinite(s.friction)) throw bad("friction: must be >= 0");
+    if (!(s.restitution >= 0.0 && s.restitution <= 1.0))
+      throw bad("restitution: must be in [0, 1]");
+    if (!s.position.allFinite() || !s.orientation.coeffs().allFinite() ||
+        s.orientation.norm() < 1e-12)
+      throw bad("position and orientation must be finite, the quaternion non-zero");
+  }
+  Body body(def);
+  impl_->contact.addBody(body);  // prepares hulls and meshes; throws for bad ones
+  bodies_.push_back(std::move(body));
+  impl_->sleep.resize(bodyCount());
   return BodyId{bodyCount() - 1};
 }
 
@@ -135,19 +166,44 @@ void World::step() {
 
 void World::substep(double h) {
   Impl& m = *impl_;
-  // 1. velocities
-  for (Body& b : bodies_) dynamics::integrateVelocity(b, settings_.gravity, h);
-  // 2. assembly
+  const SleepSettings& sleep = settings_.sleep;
+  auto awake = [&](std::size_t i) { return !m.sleep.asleep(static_cast<int>(i)); };
+  // Something pushed or moved a sleeping body from outside: it wakes (with its island, below).
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    if (!awake(i) && (!b.linearVelocity().isZero(0) || !b.angularVelocity().isZero(0) ||
+                      !b.force().isZero(0) || !b.torque().isZero(0)))
+      m.sleep.wake(static_cast<int>(i));
+  }
+  // 1. velocities (sleeping bodies stay at rest)
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (awake(i)) dynamics::integrateVelocity(bodies_[i], settings_.gravity, h);
+  // 2. assembly, 3. warm start: joint rows, then contact rows
   world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
-  // 3. warm start
-  m.lambda.assign(m.rows.size(), 0.0);
+  const std::size_t joint_rows = m.rows.size();
+  m.lambda.assign(joint_rows, 0.0);
   if (settings_.solver.warm_start) {
-    for (std::size_t k = 0; k < m.rows.size(); ++k) {
+    for (std::size_t k = 0; k < joint_rows; ++k) {
       const auto it = m.warm.find(m.rows[k].key);
       if (it != m.warm.end()) m.lambda[k] = it->second;
     }
   }
-  // 4. solve
+  m.contact.detect(bodies_, joints_, settings_.contact, h);
+  m.contact.appendRows(bodies_, h, m.rows, m.lambda, settings_.solver.warm_start);
+  // Islands: bodies linked by this step's rows. An island with an awake body wakes entirely; the
+  // bodies it wakes get this step's velocity update too.
+  world::rowLinks(m.rows, m.links);
+  m.movable.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) m.movable[i] = !bodies_[i].isStatic();
+  m.islands.build(bodyCount(), m.movable, m.links);
+  m.was_asleep.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) m.was_asleep[i] = !awake(i);
+  const std::span<const std::uint8_t> island_awake =
+      sleep.enabled ? m.sleep.wakeIslands(m.islands) : std::span<const std::uint8_t>{};
+  if (!sleep.enabled) m.sleep.wakeAll();
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (m.was_asleep[i] && awake(i)) dynamics::integrateVelocity(bodies_[i], settings_.gravity, h);
+  // 4. solve, island by island (sleeping islands are skipped)
   m.solver_bodies.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
@@ -158,21 +214,60 @@ void World::substep(double h) {
     m.solver = solver::makeSolver(settings_.solver.type);
     m.solver_type = settings_.solver.type;
   }
-  solver::Problem problem{m.rows, m.solver_bodies, m.lambda, h};
-  report_ = m.solver->solve(problem, settings_.solver);
+  m.lambda0 = m.lambda;
+  report_ = world::solveIslands(m.islands, island_awake, m.rows, m.solver_bodies, m.lambda, h,
+                                *m.solver, settings_.solver, m.island_work);
+  // Sleeping islands keep the impulses they rested on, for when they wake.
+  for (std::size_t k = 0; k < m.rows.size(); ++k) {
+    const int island = m.island_work.row_island[k];
+    if (island >= 0 && !island_awake.empty() && !island_awake[static_cast<std::size_t>(island)])
+      m.lambda[k] = m.lambda0[k];
+  }
   m.warm.clear();
-  for (std::size_t k = 0; k < m.rows.size(); ++k) m.warm[m.rows[k].key] = m.lambda[k];
+  for (std::size_t k = 0; k < joint_rows; ++k) m.warm[m.rows[k].key] = m.lambda[k];
+  m.contact.store(m.lambda);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    if (bodies_[i].isStatic()) continue;
+    if (bodies_[i].isStatic() || !awake(i)) continue;
     bodies_[i].setLinearVelocity(m.solver_bodies[i].v);
     bodies_[i].setAngularVelocity(m.solver_bodies[i].w);
   }
   // 5. positions
-  for (Body& b : bodies_) dynamics::integratePosition(b, h);
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (awake(i)) dynamics::integratePosition(bodies_[i], h);
   // 6. projection
   if (settings_.solver.projection) world::projectPositions(joints_, bodies_, settings_.solver);
   // 7. tracking
   for (auto& j : joints_) j->track(bodyState(j->body1()), bodyState(j->body2()));
+  // 8. sleeping: islands at rest long enough fall asleep, their bodies stop
+  if (sleep.enabled) {
+    // Only islands that rest on contacts sleep: a mechanism of joints alone keeps moving however
+    // slowly it swings (a pendulum at 1 cm amplitude is below every rest threshold).
+    m.may_sleep.assign(static_cast<std::size_t>(m.islands.count()), 0);
+    for (std::size_t k = joint_rows; k < m.rows.size(); ++k) {
+      const int island = m.island_work.row_island[k];
+      if (island >= 0) m.may_sleep[static_cast<std::size_t>(island)] = 1;
+    }
+    m.sleep.update(m.islands, bodies_, h, sleep, m.may_sleep);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      if (awake(i) || bodies_[i].isStatic()) continue;
+      bodies_[i].setLinearVelocity(Vec3::Zero());
+      bodies_[i].setAngularVelocity(Vec3::Zero());
+    }
+  }
+}
+
+bool World::isAsleep(BodyId id) const {
+  body(id);  // checks the id
+  return impl_->sleep.asleep(id.index);
+}
+
+void World::wake(BodyId id) {
+  body(id);
+  impl_->sleep.wake(id.index);
+}
+
+std::span<const Contact> World::contacts() const {
+  return impl_->contact.contacts();
 }
 
 std::optional<double> World::jointCoordinate(JointId id) const {

@@ -1,0 +1,73 @@
+#include "joints/contact_joint.hpp"
+
+#include <algorithm>
+
+#include "math/rotation.hpp"
+
+namespace linx::joints {
+
+namespace {
+/// A row J = [ -d, -(r_a x d) | d, r_b x d ]: the velocity of b's point relative to a's along d.
+void relativeRow(const Vec3& d, const Vec3& ra, const Vec3& rb, Row& row) {
+  row.Ja << -d, -ra.cross(d);
+  row.Jb << d, rb.cross(d);
+}
+}  // namespace
+
+void contactRows(const collision::ContactPoint& c, const BodyState& a, const BodyState& b,
+                 const ContactLaw& law, double h, std::span<Row, 3> rows, Vec3& t1, Vec3& t2) {
+  const Vec3& n = c.normal;
+  const Vec3 ra = c.point - a.pose.position, rb = c.point - b.pose.position;
+  const Vec3 rel = (b.v + b.w.cross(rb)) - (a.v + a.w.cross(ra));  // b's point relative to a's
+  const double vn = n.dot(rel);
+  const Vec3 slide = rel - vn * n;
+  if (slide.norm() > kSlidingSpeed) {
+    t1 = slide.normalized();
+    t2 = n.cross(t1);
+  } else {
+    math::orthonormalBasis(n, t1, t2);
+  }
+
+  Row& normal = rows[0];
+  relativeRow(n, ra, rb, normal);
+  normal.kind = RowKind::Unilateral;
+  normal.lo = 0.0;
+  normal.hi = kInfinity;
+  normal.cfm = law.cfm;
+  normal.speed = 0.0;
+  normal.key = 0;
+  const double gap = -c.depth;
+  if (gap > 0.0) {  // speculative: reach the surface by the end of the step, no sooner
+    normal.phi = gap;
+    normal.erp = 1.0;
+  } else {  // penetrating: push out what lies beyond the slop
+    normal.phi = std::min(0.0, gap + law.slop);
+    normal.erp = law.erp;
+  }
+  const double approach = -vn;
+  if (law.restitution > 0.0 && approach > law.restitution_threshold &&
+      approach * h >= std::max(gap, 0.0)) {
+    const double bounce = law.restitution * approach;
+    if (bounce > normal.target(h)) {
+      normal.speed = bounce;
+      normal.phi = 0.0;
+    }
+  }
+
+  for (int k = 1; k <= 2; ++k) {
+    Row& f = rows[static_cast<std::size_t>(k)];
+    relativeRow(k == 1 ? t1 : t2, ra, rb, f);
+    f.kind = RowKind::Friction;
+    f.normal = 0;
+    f.mu = law.friction;
+    f.lo = -kInfinity;  // the solvers bound friction rows by mu lambda_n
+    f.hi = kInfinity;
+    f.phi = 0.0;
+    f.speed = 0.0;
+    f.erp = 0.0;
+    f.cfm = law.cfm;
+    f.key = static_cast<std::uint64_t>(k);
+  }
+}
+
+}  // namespace linx::joints

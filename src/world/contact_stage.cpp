@@ -1,0 +1,185 @@
+#include "world/contact_stage.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "collision/aabb.hpp"
+#include "collision/geometry.hpp"
+#include "world/assembly.hpp"
+
+namespace linx::world {
+
+namespace {
+/// Identity of a contact across steps: bit 63 (a contact, not a joint), the two global shape
+/// indices and the feature id; the low two bits stay free for the row slot.
+std::uint64_t contactKey(int shape_a, int shape_b, std::uint32_t feature) {
+  const auto a = static_cast<std::uint64_t>(shape_a) & 0xfffffu;
+  const auto b = static_cast<std::uint64_t>(shape_b) & 0xfffffu;
+  const auto f = static_cast<std::uint64_t>(feature) & 0x1fffffu;
+  return (std::uint64_t{1} << 63) | (a << 43) | (b << 23) | (f << 2);
+}
+
+/// The pair's law: friction sqrt(mu_a mu_b) (a frictionless side makes the pair frictionless),
+/// restitution max(e_a, e_b) (a bouncy ball bounces on any floor); erp/cfm from the settings.
+joints::ContactLaw combine(const ShapeDef& a, const ShapeDef& b, const ContactSettings& s,
+                           double h) {
+  joints::ContactLaw law;
+  law.friction = std::sqrt(a.friction * b.friction);
+  law.restitution = std::max(a.restitution, b.restitution);
+  if (s.stiffness && s.damping) {
+    const SoftRow soft = springDamper(*s.stiffness, *s.damping, h);
+    law.erp = soft.erp;
+    law.cfm = soft.cfm;
+  } else {
+    law.erp = s.erp;
+    law.cfm = s.cfm;
+  }
+  law.slop = s.slop;
+  law.restitution_threshold = s.restitution_threshold;
+  return law;
+}
+
+/// The shape frame in the world.
+Pose shapePose(const Body& body, const ShapeDef& shape) {
+  return Pose{body.pose().toWorld(shape.position),
+              (body.orientation() * shape.orientation).normalized()};
+}
+
+/// How far a point of the shape can move in a step of length h: |v| h + |w| h times the largest
+/// distance of the shape's box from the centre of mass. Unbounded shapes are static (zero speed).
+double sweep(const Body& body, const collision::Aabb& box, double h) {
+  if (body.isStatic()) return 0.0;
+  const double reach = (box.centre() - body.position()).norm() + 0.5 * box.extent().norm();
+  return h * (body.linearVelocity().norm() + body.angularVelocity().norm() * reach);
+}
+}  // namespace
+
+void ContactStage::addBody(const Body& body) {
+  first_shape_.push_back(static_cast<int>(geometry_.size()));
+  for (const ShapeDef& shape : body.shapes()) {
+    geometry_.push_back(collision::prepareGeometry(shape));
+    shape_body_.push_back(static_cast<int>(first_shape_.size()) - 1);
+  }
+}
+
+void ContactStage::detect(std::span<const Body> bodies,
+                          std::span<const std::unique_ptr<Joint>> joints,
+                          const ContactSettings& settings, double h) {
+  records_.clear();
+  if (!settings.enabled || geometry_.empty()) return;
+
+  joined_.clear();
+  for (const auto& j : joints) {
+    if (j->def().collide || j->body2().isWorld()) continue;
+    const int a = j->body1().index, b = j->body2().index;
+    joined_.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  std::sort(joined_.begin(), joined_.end());
+
+  // Broadphase over every shape, boxes grown by the margin and the step's sweep.
+  boxes_.resize(geometry_.size());
+  std::vector<double> reach(geometry_.size());
+  for (std::size_t s = 0; s < geometry_.size(); ++s) {
+    const Body& body = bodies[static_cast<std::size_t>(shape_body_[s])];
+    const int local = static_cast<int>(s) - first_shape_[static_cast<std::size_t>(shape_body_[s])];
+    const collision::Aabb tight =
+        collision::shapeAabb(body.shapes()[static_cast<std::size_t>(local)], body.pose());
+    reach[s] = sweep(body, tight, h);
+    boxes_[s] = tight.expanded(0.5 * settings.margin + reach[s]);
+  }
+  broadphase_.update(boxes_);
+
+  for (const auto& [i, j] : broadphase_.pairs()) {
+    const int body_i = shape_body_[static_cast<std::size_t>(i)];
+    const int body_j = shape_body_[static_cast<std::size_t>(j)];
+    if (body_i == body_j) continue;
+    const Body& bi = bodies[static_cast<std::size_t>(body_i)];
+    const Body& bj = bodies[static_cast<std::size_t>(body_j)];
+    if (bi.isStatic() && bj.isStatic()) continue;
+    const int local_i = i - first_shape_[static_cast<std::size_t>(body_i)];
+    const int local_j = j - first_shape_[static_cast<std::size_t>(body_j)];
+    const ShapeDef& si = bi.shapes()[static_cast<std::size_t>(local_i)];
+    const ShapeDef& sj = bj.shapes()[static_cast<std::size_t>(local_j)];
+    if ((si.group & sj.mask) == 0 || (sj.group & si.mask) == 0) continue;
+    if (std::binary_search(joined_.begin(), joined_.end(),
+                           std::pair{std::min(body_i, body_j), std::max(body_i, body_j)}))
+      continue;
+
+    const collision::ShapeInstance a{&si, geometry_[static_cast<std::size_t>(i)].get(),
+                                     shapePose(bi, si)};
+    const collision::ShapeInstance b{&sj, geometry_[static_cast<std::size_t>(j)].get(),
+                                     shapePose(bj, sj)};
+    const double margin =
+        settings.margin + reach[static_cast<std::size_t>(i)] + reach[static_cast<std::size_t>(j)];
+    points_.clear();
+    collision::collide(a, b, margin, points_);
+    const joints::ContactLaw law = combine(si, sj, settings, h);
+    for (const collision::ContactPoint& p : points_) {
+      ContactRecord r;
+      r.body_a = body_i;
+      r.body_b = body_j;
+      r.shape_a = local_i;
+      r.shape_b = local_j;
+      r.point = p;
+      r.law = law;
+      r.key = contactKey(i, j, p.feature);
+      records_.push_back(r);
+    }
+  }
+}
+
+void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
+                              std::vector<double>& lambda, bool warm_start) {
+  // All normal rows first, then all friction rows: a Gauss-Seidel sweep then settles the normal
+  // impulses of a whole pile before friction, whose bounds follow them, is solved against them.
+  const std::size_t first_normal = rows.size();
+  const std::size_t first_friction = first_normal + records_.size();
+  rows.resize(first_normal + 3 * records_.size());
+  lambda.resize(rows.size(), 0.0);
+  std::array<Row, 3> made;
+  for (std::size_t c = 0; c < records_.size(); ++c) {
+    ContactRecord& r = records_[c];
+    const Body& a = bodies[static_cast<std::size_t>(r.body_a)];
+    const Body& b = bodies[static_cast<std::size_t>(r.body_b)];
+    made.fill(Row{});
+    joints::contactRows(r.point, stateOf(bodies, BodyId{r.body_a}),
+                        stateOf(bodies, BodyId{r.body_b}), r.law, h, made, r.t1, r.t2);
+    r.row = static_cast<int>(first_normal + c);
+    r.friction_row = static_cast<int>(first_friction + 2 * c);
+    const std::array<std::size_t, 3> at{first_normal + c, first_friction + 2 * c,
+                                        first_friction + 2 * c + 1};
+    for (std::size_t k = 0; k < 3; ++k) {
+      Row& row = rows[at[k]];
+      row = made[k];
+      row.body_a = a.isStatic() ? -1 : r.body_a;
+      row.body_b = b.isStatic() ? -1 : r.body_b;
+      row.key |= r.key;
+      if (row.normal >= 0) row.normal = r.row;
+    }
+    if (warm_start) {
+      if (const auto it = cache_.find(r.key); it != cache_.end()) {
+        lambda[at[0]] = it->second.normal;
+        lambda[at[1]] = it->second.friction.dot(r.t1);  // the old tangential impulse, projected
+        lambda[at[2]] = it->second.friction.dot(r.t2);  // on the new tangents
+      }
+    }
+  }
+}
+
+void ContactStage::store(std::span<const double> lambda) {
+  cache_.clear();
+  contacts_.clear();
+  for (const ContactRecord& r : records_) {
+    if (r.row < 0) continue;
+    const auto k = static_cast<std::size_t>(r.row);
+    const auto f = static_cast<std::size_t>(r.friction_row);
+    const Impulse impulse{lambda[k], lambda[f] * r.t1 + lambda[f + 1] * r.t2};
+    cache_[r.key] = impulse;
+    contacts_.push_back(Contact{BodyId{r.body_a}, BodyId{r.body_b}, r.shape_a, r.shape_b,
+                                r.point.point, r.point.normal, r.point.depth, impulse.normal,
+                                impulse.friction, r.point.feature});
+  }
+}
+
+}  // namespace linx::world

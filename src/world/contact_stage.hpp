@@ -1,0 +1,79 @@
+// The contact stage of a step: shapes -> broadphase -> narrowphase -> contact rows, and the
+// contact impulses kept from one step to the next (warm starting by feature id).
+//
+// Which pairs are tested: shapes of two different bodies, not both unmovable, whose collision
+// filters accept each other ((group1 & mask2) and (group2 & mask1) non-zero), and whose bodies are
+// not joined by a joint (unless the joint says `collide`). The broadphase boxes are grown by the
+// speculative margin plus what the body's speed covers in the step, so that a contact exists
+// before two fast shapes meet.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/contact.hpp>
+#include <linx/joint.hpp>
+#include <linx/row.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "collision/broadphase.hpp"
+#include "collision/narrowphase.hpp"
+#include "joints/contact_joint.hpp"
+
+namespace linx::world {
+
+/// One contact point of this step between body a's shape and body b's shape.
+struct ContactRecord {
+  int body_a = 0, body_b = 0;    ///< body indices (either may be static, never the world)
+  int shape_a = 0, shape_b = 0;  ///< shape indices within the bodies
+  collision::ContactPoint point;
+  joints::ContactLaw law;
+  std::uint64_t key = 0;  ///< identity across steps: the shape pair and the feature
+  Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();  ///< tangents of the friction rows
+  int row = -1;           ///< index of its normal row in the row list (-1: no rows)
+  int friction_row = -1;  ///< index of its first friction row (the second follows)
+};
+
+class ContactStage {
+ public:
+  /// Prepares the shapes of a newly created body (hulls, meshes). Bodies are added in order.
+  /// Throws std::invalid_argument for shapes that cannot be prepared.
+  void addBody(const Body& body);
+
+  /// Finds this step's contact points from the bodies' current poses and velocities.
+  void detect(std::span<const Body> bodies, std::span<const std::unique_ptr<Joint>> joints,
+              const ContactSettings& settings, double h);
+
+  /// Appends three rows per contact (normal, two friction) and their warm-start impulses.
+  void appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
+                  std::vector<double>& lambda, bool warm_start);
+
+  /// Keeps the solved impulses for the next step's warm start and the contacts() report.
+  void store(std::span<const double> lambda);
+
+  std::span<const ContactRecord> records() const { return records_; }
+  std::span<const Contact> contacts() const { return contacts_; }
+
+ private:
+  struct Impulse {
+    double normal = 0.0;
+    Vec3 friction = Vec3::Zero();  // world-frame tangential impulse on body b
+  };
+
+  std::vector<std::shared_ptr<const collision::Geometry>> geometry_;  // per shape, flattened
+  std::vector<int> first_shape_;  // body i's shapes start at first_shape_[i] in geometry_
+  std::vector<int> shape_body_;   // the body of each flattened shape
+  std::vector<collision::Aabb> boxes_;
+  collision::SweepAndPrune broadphase_;
+  std::vector<std::pair<int, int>> joined_;  // body pairs joined by a non-colliding joint, sorted
+  std::vector<collision::ContactPoint> points_;
+  std::vector<ContactRecord> records_;
+  std::vector<Contact> contacts_;
+  std::unordered_map<std::uint64_t, Impulse> cache_;  // by record key, from the last step
+};
+
+}  // namespace linx::world

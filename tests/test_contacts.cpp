@@ -1,0 +1,226 @@
+// Frictional contact against closed forms: the sticking and sliding thresholds of a block on an
+// incline, rolling without slipping (5/7 g sin(theta) for a solid sphere, 2/3 for a cylinder), the
+// rebound height of a ball with restitution e (e^2 of the drop), and momentum in a frictionless
+// head-on collision. Each test states its tolerance and why.
+#include "support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace linx {
+namespace {
+
+constexpr double kG = 9.81;
+
+/// A static plane through the origin with the given unit normal; friction and restitution of its
+/// material.
+BodyDef ground(const Vec3& normal, double friction, double restitution = 0.0) {
+  BodyDef g;
+  g.name = "ground";
+  g.is_static = true;
+  g.shapes.push_back(ShapeDef{.type = ShapeType::Plane,
+                              .normal = normal,
+                              .friction = friction,
+                              .restitution = restitution});
+  return g;
+}
+
+/// An incline of angle theta about the y axis: normal n = (sin, 0, cos), downhill d = (cos, 0,
+/// -sin); the rotation about y by theta takes a body's z axis to n.
+struct Slope {
+  double theta;
+  Vec3 n() const { return Vec3(std::sin(theta), 0, std::cos(theta)); }
+  Vec3 down() const { return Vec3(std::cos(theta), 0, -std::sin(theta)); }
+  Quat tilt() const { return Quat(Eigen::AngleAxisd(theta, Vec3::UnitY())); }
+};
+
+World makeWorld(SolverType type, double h = 1e-3) {
+  WorldSettings s;
+  s.timestep = h;
+  s.solver.type = type;
+  return World(s);
+}
+
+/// A 1 kg box of 0.4 x 0.3 x 0.2 m resting on the incline (its bottom face on the plane).
+BodyId addBlock(World& world, const Slope& slope, double friction) {
+  BodyDef d = test::boxBody("block", 1.0, Vec3(0.4, 0.3, 0.2), 0.1 * slope.n());
+  d.orientation = slope.tilt();
+  d.shapes[0].friction = friction;
+  return world.createBody(d);
+}
+
+class Incline : public testing::TestWithParam<SolverType> {};
+
+// mu = 0.5 against tan(theta) = 0.95 mu: the friction needed, m g sin(theta), is 95 % of the bound
+// mu m g cos(theta), so the block must not move at all. The bound is 0.1 mm over 2 s: the only
+// motion allowed is the settling of the contact within its slop.
+TEST_P(Incline, BlockSticksBelowTheFrictionAngle) {
+  const double mu = 0.5;
+  const Slope slope{std::atan(0.95 * mu)};
+  World world = makeWorld(GetParam());
+  world.createBody(ground(slope.n(), mu));
+  const BodyId block = addBlock(world, slope, mu);
+  const Vec3 x0 = world.body(block).position();
+  for (int i = 0; i < 2000; ++i) world.step();
+  const double moved = (world.body(block).position() - x0).norm();
+  std::printf("stick: tan(theta) = 0.95 mu, moved %.3e m in 2 s\n", moved);
+  EXPECT_LT(moved, 1e-4);
+}
+
+// Beyond the friction angle the block slides with a = g (sin(theta) - mu cos(theta)). The discrete
+// velocity after n steps is exactly a n h under a constant net force, so 1 % is loose: it covers
+// the first steps in which the contact settles. The last case lies just beyond the threshold
+// (tan(theta) = 1.05 mu): it must slide, however slowly; a bound held anywhere but at mu lambda_n
+// would stop it.
+TEST_P(Incline, BlockSlidesWithCoulombFriction) {
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  for (const auto& [theta, mu] : {std::pair{30.0 * kDeg, 0.3}, std::pair{40.0 * kDeg, 0.5},
+                                  std::pair{std::atan(0.525), 0.5}}) {
+    const Slope slope{theta};
+    World world = makeWorld(GetParam());
+    world.createBody(ground(slope.n(), mu));
+    const BodyId block = addBlock(world, slope, mu);
+    for (int i = 0; i < 1000; ++i) world.step();
+    const double a = world.body(block).linearVelocity().dot(slope.down()) / world.time();
+    const double expected = kG * (std::sin(slope.theta) - mu * std::cos(slope.theta));
+    std::printf("slide: theta %.2f deg, mu %.1f: a = %.5f, closed form %.5f (%.2e relative)\n",
+                theta / kDeg, mu, a, expected, std::abs(a / expected - 1.0));
+    EXPECT_NEAR(a, expected, 0.01 * expected);
+    // It slides straight down: no sideways drift, no lift-off.
+    EXPECT_LT(std::abs(world.body(block).linearVelocity().y()), 1e-6);
+    EXPECT_LT(std::abs(world.body(block).position().dot(slope.n()) - 0.1), 1e-3);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, Incline,
+                         testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs),
+                         [](const auto& info) { return std::string(solverTypeName(info.param)); });
+
+class Rolling : public testing::TestWithParam<SolverType> {};
+
+// A solid sphere rolling without slipping: a = g sin(theta) / (1 + I / (m r^2)) = 5/7 g sin(theta).
+// Friction 0.8 is far above the 2/7 tan(theta) = 0.10 needed. 1 % as the issue asks; the discrete
+// motion is exact up to the contact's settling.
+TEST_P(Rolling, SolidSphereAndCylinderRollAtTheirClosedFormAcceleration) {
+  const Slope slope{20.0 * std::numbers::pi / 180.0};
+  const double r = 0.1, m = 2.0;
+  for (const bool cylinder : {false, true}) {
+    World world = makeWorld(GetParam());
+    world.createBody(ground(slope.n(), 0.8));
+    BodyDef d;
+    d.name = cylinder ? "cylinder" : "sphere";
+    d.mass = m;
+    d.position = r * slope.n();
+    if (cylinder) {
+      // Axis along y (perpendicular to the slope's fall line): local z turned onto y.
+      const double l = 0.3;
+      d.orientation = Quat(Eigen::AngleAxisd(-std::numbers::pi / 2, Vec3::UnitX()));
+      d.inertia = Vec3(m * (3 * r * r + l * l) / 12, m * (3 * r * r + l * l) / 12, 0.5 * m * r * r)
+                      .asDiagonal();
+      d.shapes.push_back(
+          ShapeDef{.type = ShapeType::Cylinder, .radius = r, .length = l, .friction = 0.8});
+    } else {
+      d.inertia = Mat3::Identity() * 0.4 * m * r * r;
+      d.shapes.push_back(ShapeDef{.type = ShapeType::Sphere, .radius = r, .friction = 0.8});
+    }
+    const BodyId body = world.createBody(d);
+    for (int i = 0; i < 1000; ++i) world.step();
+    const Body& b = world.body(body);
+    const double a = b.linearVelocity().dot(slope.down()) / world.time();
+    const double expected = (cylinder ? 2.0 / 3.0 : 5.0 / 7.0) * kG * std::sin(slope.theta);
+    // Rolling: the contact point does not slip, v = w x (r n) ... i.e. |v| = |w| r.
+    const double slip = (b.linearVelocity() + b.angularVelocity().cross(-r * slope.n())).norm();
+    std::printf("%s: a = %.5f, closed form %.5f (%.2e relative), slip %.2e m/s\n", d.name.c_str(),
+                a, expected, std::abs(a / expected - 1.0), slip);
+    EXPECT_NEAR(a, expected, 0.01 * expected);
+    EXPECT_LT(slip, 1e-3);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, Rolling,
+                         testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs),
+                         [](const auto& info) { return std::string(solverTypeName(info.param)); });
+
+// A ball of restitution e dropped from rest at height H (its bottom) rebounds to e^2 H: the
+// rebound speed is e times the impact speed sqrt(2 g H). 2 % as the issue asks; the step's own
+// error is about h sqrt(2 g H) / H ~ 0.5 %.
+TEST(Restitution, BallReboundsToESquaredOfItsDropHeight) {
+  const double r = 0.05, H = 1.0;
+  for (const double e : {0.5, 0.8}) {
+    World world = makeWorld(SolverType::Exact);
+    world.createBody(ground(Vec3::UnitZ(), 0.5, e));
+    BodyDef d;
+    d.name = "ball";
+    d.mass = 0.1;
+    d.inertia = Mat3::Identity() * 0.4 * 0.1 * r * r;
+    d.position = Vec3(0, 0, r + H);
+    d.shapes.push_back(ShapeDef{.type = ShapeType::Sphere, .radius = r, .restitution = e});
+    const BodyId ball = world.createBody(d);
+    double peak = 0.0;
+    bool bounced = false;
+    for (int i = 0; i < 2000; ++i) {
+      world.step();
+      const Body& b = world.body(ball);
+      if (b.linearVelocity().z() > 0.0) bounced = true;
+      if (bounced) {
+        peak = std::max(peak, b.position().z() - r);
+        if (b.linearVelocity().z() < 0.0) break;  // past the top of the first rebound
+      }
+    }
+    std::printf("e = %.1f: rebound %.5f m, e^2 H = %.5f m (%.2e relative)\n", e, peak, e * e * H,
+                std::abs(peak / (e * e * H) - 1.0));
+    EXPECT_TRUE(bounced);
+    EXPECT_NEAR(peak, e * e * H, 0.02 * e * e * H);
+  }
+}
+
+// Two free spheres meet head on without friction or gravity. Momentum is conserved to round-off
+// whatever the restitution (the contact impulse is internal); with e = 1 the velocities after
+// are the elastic closed form v1' = ((m1 - m2) v1 + 2 m2 v2) / (m1 + m2), and with e = 0 both
+// move at the common velocity.
+TEST(Collision, FrictionlessHeadOnCollisionConservesMomentum) {
+  for (const SolverType type : {SolverType::Exact, SolverType::Pgs}) {
+    for (const double e : {0.0, 1.0}) {
+      WorldSettings s;
+      s.gravity = Vec3::Zero();
+      s.timestep = 1e-3;
+      s.solver.type = type;
+      World world(s);
+      const double m1 = 1.0, m2 = 3.0, v1 = 2.0, v2 = -1.0, r = 0.1;
+      auto sphere = [&](const char* name, double m, double x, double v) {
+        BodyDef d;
+        d.name = name;
+        d.mass = m;
+        d.inertia = Mat3::Identity() * 0.4 * m * r * r;
+        d.position = Vec3(x, 0, 0);
+        d.linear_velocity = Vec3(v, 0, 0);
+        d.shapes.push_back(
+            ShapeDef{.type = ShapeType::Sphere, .radius = r, .friction = 0.0, .restitution = e});
+        return world.createBody(d);
+      };
+      const BodyId a = sphere("a", m1, -0.5, v1), b = sphere("b", m2, 0.5, v2);
+      const Vec3 p0 = m1 * world.body(a).linearVelocity() + m2 * world.body(b).linearVelocity();
+      double worst = 0.0;
+      for (int i = 0; i < 600; ++i) {
+        world.step();
+        const Vec3 p = m1 * world.body(a).linearVelocity() + m2 * world.body(b).linearVelocity();
+        worst = std::max(worst, (p - p0).norm());
+      }
+      const double va = world.body(a).linearVelocity().x(), vb = world.body(b).linearVelocity().x();
+      const double common = (m1 * v1 + m2 * v2) / (m1 + m2);
+      const double ea = e == 1.0 ? ((m1 - m2) * v1 + 2 * m2 * v2) / (m1 + m2) : common;
+      const double eb = e == 1.0 ? ((m2 - m1) * v2 + 2 * m1 * v1) / (m1 + m2) : common;
+      std::printf("%s e = %.0f: momentum error %.2e, v = (%.6f, %.6f), closed form (%.6f, %.6f)\n",
+                  std::string(solverTypeName(type)).c_str(), e, worst, va, vb, ea, eb);
+      EXPECT_LT(worst, 1e-12);
+      EXPECT_NEAR(va, ea, 1e-6);
+      EXPECT_NEAR(vb, eb, 1e-6);
+      EXPECT_LT(world.body(a).linearVelocity().tail<2>().norm(), 1e-12);  // head on: stays on x
+    }
+  }
+}
+
+}  // namespace
+}  // namespace linx
