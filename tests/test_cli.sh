@@ -110,6 +110,21 @@ case "$case_name" in
     grep -q "(4 frames, 50 steps," out.txt || fail "--every 20: summary"
     ;;
 
+  run_contacts)
+    # The ball of bouncing_ball.json lands after 0.45 s: contacts.csv lists the ground-ball points,
+    # their normal from ground to ball and a positive impulse at the impact.
+    expect 0 "$linx" run "$examples/bouncing_ball.json" --out out --duration 0.6 --contacts
+    grep -q "^wrote 4 files to out " out.txt || fail "summary: expected 4 files"
+    [ "$(head -n 1 out/contacts.csv)" = "time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse" ] ||
+      fail "contacts.csv header"
+    awk -F, 'NR > 1 && $2 == "ground" && $3 == "ball" && $7 == 0 && $8 == 0 && $9 == 1 {n++}
+             END {exit !(n > 0)}' out/contacts.csv || fail "no ground-ball contact with normal +z"
+    awk -F, 'NR > 1 && $11 > 0 {hit = 1} END {exit !hit}' out/contacts.csv ||
+      fail "no positive normal impulse"
+    expect 0 "$linx" run "$examples/bouncing_ball.json" --out plain --duration 0.6
+    [ -e plain/contacts.csv ] && fail "contacts.csv written without --contacts"
+    ;;
+
   bad_scenes)
     printf '{"bodies": [{"name": "bob", "mas": 1}]}' >unknown.json
     printf '{\n  "bodies": [\n    {"name": "bob",}\n  ]\n}\n' >syntax.json

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 namespace linx {
@@ -219,6 +220,78 @@ TEST(Collision, FrictionlessHeadOnCollisionConservesMomentum) {
       EXPECT_NEAR(vb, eb, 1e-6);
       EXPECT_LT(world.body(a).linearVelocity().tail<2>().norm(), 1e-12);  // head on: stays on x
     }
+  }
+}
+
+// A contact given a stiffness k and damping c instead of erp and cfm is a spring: a ball resting on
+// it sinks by m g / k beyond the slop (the slop is never corrected), to 1e-9 m once the damped
+// motion has died out (c is set near critical: 2 sqrt(k m)).
+TEST(SoftContact, BallSinksByItsWeightOverTheStiffness) {
+  WorldSettings s;
+  s.sleep.enabled = false;  // settle to the equilibrium, not to the rest threshold
+  s.contact.stiffness = 1e4;
+  s.contact.damping = 200.0;
+  World world(s);
+  world.createBody(ground(Vec3::UnitZ(), 0.5));
+  const double r = 0.1, m = 1.0;
+  BodyDef d;
+  d.name = "ball";
+  d.mass = m;
+  d.inertia = Mat3::Identity() * 0.4 * m * r * r;
+  d.position = Vec3(0, 0, r);
+  d.shapes.push_back(ShapeDef{.type = ShapeType::Sphere, .radius = r});
+  const BodyId ball = world.createBody(d);
+  for (int i = 0; i < 3000; ++i) world.step();
+  const double sink = r - world.body(ball).position().z();
+  const double expected = m * kG / *s.contact.stiffness + s.contact.slop;
+  std::printf("soft contact: sink %.9f m, m g / k + slop = %.9f m\n", sink, expected);
+  EXPECT_NEAR(sink, expected, 1e-9);
+}
+
+/// Two overlapping spheres, the second 0.15 m above the first (radii 0.1: 5 cm of overlap), in
+/// zero gravity: whether they push apart tells whether their shapes collide.
+bool pushApart(const std::function<void(World&, BodyId, BodyId, ShapeDef&, ShapeDef&)>& setup) {
+  WorldSettings s;
+  s.gravity = Vec3::Zero();
+  World world(s);
+  ShapeDef sa{.type = ShapeType::Sphere, .radius = 0.1}, sb = sa;
+  BodyDef a, b;
+  a.name = "a";
+  b.name = "b";
+  b.position = Vec3(0, 0, 0.15);
+  // The filters must be set before the bodies exist; joints after.
+  setup(world, kWorldBody, kWorldBody, sa, sb);
+  a.shapes = {sa};
+  b.shapes = {sb};
+  const BodyId ia = world.createBody(a), ib = world.createBody(b);
+  setup(world, ia, ib, sa, sb);
+  for (int i = 0; i < 10; ++i) world.step();
+  return world.body(ib).position().z() > 0.15 + 1e-4;
+}
+
+TEST(CollisionFilter, GroupsMasksAndJoints) {
+  // By default they collide.
+  EXPECT_TRUE(pushApart([](World&, BodyId, BodyId, ShapeDef&, ShapeDef&) {}));
+  // a's mask excludes b's group: no contact either way round.
+  EXPECT_FALSE(pushApart([](World&, BodyId, BodyId, ShapeDef& a, ShapeDef& b) {
+    a.mask = ~0x2u;
+    b.group = 0x2u;
+  }));
+  EXPECT_TRUE(pushApart([](World&, BodyId, BodyId, ShapeDef& a, ShapeDef& b) {
+    a.mask = ~0x4u;
+    b.group = 0x2u;
+  }));
+  // Joined by a slider along z (which lets them part): no contact, unless the joint sets collide.
+  for (const bool collide : {false, true}) {
+    EXPECT_EQ(
+        pushApart([collide](World& w, BodyId a, BodyId b, ShapeDef&, ShapeDef&) {
+          if (a.isWorld()) return;
+          w.createJoint(
+              "slider",
+              JointDef{
+                  .name = "j", .body1 = b, .body2 = a, .axis = Vec3::UnitZ(), .collide = collide});
+        }),
+        collide);
   }
 }
 
