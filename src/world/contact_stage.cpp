@@ -67,6 +67,7 @@ void ContactStage::detect(std::span<const Body> bodies,
                           std::span<const std::unique_ptr<Joint>> joints,
                           const ContactSettings& settings, double h) {
   records_.clear();
+  match_distance_ = settings.margin;
   if (!settings.enabled || geometry_.empty()) return;
 
   joined_.clear();
@@ -124,6 +125,7 @@ void ContactStage::detect(std::span<const Body> bodies,
       r.point = p;
       r.law = law;
       r.key = contactKey(i, j, p.feature);
+      r.pair = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
       records_.push_back(r);
     }
   }
@@ -158,17 +160,37 @@ void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vecto
       if (row.normal >= 0) row.normal = r.row;
     }
     if (warm_start) {
-      if (const auto it = cache_.find(r.key); it != cache_.end()) {
-        lambda[at[0]] = it->second.normal;
-        lambda[at[1]] = it->second.friction.dot(r.t1);  // the old tangential impulse, projected
-        lambda[at[2]] = it->second.friction.dot(r.t2);  // on the new tangents
+      if (const Impulse* old = previousImpulse(r, a)) {
+        lambda[at[0]] = old->normal;
+        lambda[at[1]] = old->friction.dot(r.t1);  // the old tangential impulse, projected
+        lambda[at[2]] = old->friction.dot(r.t2);  // on the new tangents
       }
     }
   }
 }
 
-void ContactStage::store(std::span<const double> lambda) {
+const ContactStage::Impulse* ContactStage::previousImpulse(const ContactRecord& r,
+                                                           const Body& a) const {
+  if (const auto it = cache_.find(r.key); it != cache_.end()) return &it->second;
+  const auto [first, last] =
+      std::equal_range(previous_.begin(), previous_.end(), Previous{r.pair, {}, {}},
+                       [](const Previous& x, const Previous& y) { return x.pair < y.pair; });
+  const Vec3 local = a.pose().toLocal(r.point.point);
+  const Impulse* best = nullptr;
+  double best_distance = match_distance_;
+  for (auto it = first; it != last; ++it) {
+    const double d = (it->local - local).norm();
+    if (d < best_distance) {
+      best_distance = d;
+      best = &it->impulse;
+    }
+  }
+  return best;
+}
+
+void ContactStage::store(std::span<const Body> bodies, std::span<const double> lambda) {
   cache_.clear();
+  previous_.clear();
   contacts_.clear();
   for (const ContactRecord& r : records_) {
     if (r.row < 0) continue;
@@ -176,6 +198,8 @@ void ContactStage::store(std::span<const double> lambda) {
     const auto f = static_cast<std::size_t>(r.friction_row);
     const Impulse impulse{lambda[k], lambda[f] * r.t1 + lambda[f + 1] * r.t2};
     cache_[r.key] = impulse;
+    previous_.push_back(Previous{
+        r.pair, bodies[static_cast<std::size_t>(r.body_a)].pose().toLocal(r.point.point), impulse});
     contacts_.push_back(Contact{BodyId{r.body_a}, BodyId{r.body_b}, r.shape_a, r.shape_b,
                                 r.point.point, r.point.normal, r.point.depth, impulse.normal,
                                 impulse.friction, r.point.feature});

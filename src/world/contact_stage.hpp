@@ -32,7 +32,8 @@ struct ContactRecord {
   int shape_a = 0, shape_b = 0;  ///< shape indices within the bodies
   collision::ContactPoint point;
   joints::ContactLaw law;
-  std::uint64_t key = 0;  ///< identity across steps: the shape pair and the feature
+  std::uint64_t key = 0;   ///< identity across steps: the shape pair and the feature
+  std::uint64_t pair = 0;  ///< the two global shape indices
   Vec3 t1 = Vec3::Zero(), t2 = Vec3::Zero();  ///< tangents of the friction rows
   int row = -1;           ///< index of its normal row in the row list (-1: no rows)
   int friction_row = -1;  ///< index of its first friction row (the second follows)
@@ -53,7 +54,7 @@ class ContactStage {
                   std::vector<double>& lambda, bool warm_start);
 
   /// Keeps the solved impulses for the next step's warm start and the contacts() report.
-  void store(std::span<const double> lambda);
+  void store(std::span<const Body> bodies, std::span<const double> lambda);
 
   std::span<const ContactRecord> records() const { return records_; }
   std::span<const Contact> contacts() const { return contacts_; }
@@ -74,6 +75,16 @@ class ContactStage {
   std::vector<ContactRecord> records_;
   std::vector<Contact> contacts_;
   std::unordered_map<std::uint64_t, Impulse> cache_;  // by record key, from the last step
+  // The last step's points by shape pair (sorted), in body a's frame: a point whose feature id
+  // changed (a manifold that switched its reference face) is matched to the nearest old point.
+  struct Previous {
+    std::uint64_t pair;
+    Vec3 local;
+    Impulse impulse;
+  };
+  std::vector<Previous> previous_;
+  const Impulse* previousImpulse(const ContactRecord& r, const Body& a) const;
+  double match_distance_ = 0.0;
 };
 
 }  // namespace linx::world

@@ -225,7 +225,7 @@ void World::substep(double h) {
   }
   m.warm.clear();
   for (std::size_t k = 0; k < joint_rows; ++k) m.warm[m.rows[k].key] = m.lambda[k];
-  m.contact.store(m.lambda);
+  m.contact.store(bodies_, m.lambda);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (bodies_[i].isStatic() || !awake(i)) continue;
     bodies_[i].setLinearVelocity(m.solver_bodies[i].v);
