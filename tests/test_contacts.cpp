@@ -295,5 +295,25 @@ TEST(CollisionFilter, GroupsMasksAndJoints) {
   }
 }
 
+// A body whose shapes cannot be prepared (a flat hull) is rejected and leaves nothing behind: the
+// next body's shapes collide as its own.
+TEST(CollisionFilter, RejectedBodyLeavesNoTrace) {
+  World world;
+  world.createBody(ground(Vec3::UnitZ(), 0.5));
+  BodyDef flat;
+  flat.name = "flat";
+  flat.shapes = {ShapeDef{.type = ShapeType::Box, .size = Vec3::Ones()},
+                 ShapeDef{.type = ShapeType::Convex,
+                          .points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}}};
+  EXPECT_THROW(world.createBody(flat), std::invalid_argument);
+  BodyDef ball;
+  ball.name = "ball";
+  ball.position = Vec3(0, 0, 0.1);
+  ball.shapes = {ShapeDef{.type = ShapeType::Sphere, .radius = 0.1}};
+  const BodyId id = world.createBody(ball);
+  for (int i = 0; i < 500; ++i) world.step();
+  EXPECT_NEAR(world.body(id).position().z(), 0.1, 1e-3);  // resting on the ground, not through it
+}
+
 }  // namespace
 }  // namespace linx

@@ -454,7 +454,7 @@ TEST(SceneError, Solver) {
 // 4000); the body moves there and the shapes stay where they were in the world.
 TEST(SceneReader, MassFromShapeDensities) {
   const linx::Scene scene = linx::parseScene(R"({
-    "bodies": [{"name": "pair", "position": [1, 0, 0], "shapes": [
+    "bodies": [{"name": "pair", "position": [1, 0, 0], "angular_velocity": [0, 0, 10], "shapes": [
       {"type": "box", "size": [1, 1, 1], "position": [-0.5, 0, 0], "density": 1000},
       {"type": "box", "size": [1, 1, 1], "position": [0.5, 0, 0], "density": 3000}]}]})",
                                              "scene.json");
@@ -463,6 +463,8 @@ TEST(SceneReader, MassFromShapeDensities) {
   EXPECT_NEAR(b.position.x(), 1.25, 1e-12);
   EXPECT_NEAR(b.shapes[0].position.x(), -0.75, 1e-12);
   EXPECT_NEAR(b.shapes[1].position.x(), 0.25, 1e-12);
+  // The stated velocity was the origin's; the centre, 0.25 m away, moves at w x 0.25 x.
+  EXPECT_NEAR((b.linear_velocity - linx::Vec3(0, 2.5, 0)).norm(), 0.0, 1e-12);
   // Izz about the centre of mass: each cube m/6 plus m d^2 (d = 0.75 and 0.25).
   EXPECT_NEAR(b.inertia(2, 2), 1000.0 / 6 + 1000 * 0.5625 + 3000.0 / 6 + 3000 * 0.0625, 1e-9);
 }
@@ -581,6 +583,8 @@ TEST(SceneError, Shapes) {
        "bodies[1].shapes[0].triangles[0][2]", "must be a point index in [0, 3), got 3"},
       {shape(R"({"type": "mesh", "file": "no_such_terrain.obj"})"), "bodies[1].shapes[0].file",
        "no_such_terrain.obj"},
+      {shape(R"({"type": "convex", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]})"),
+       "bodies[1].shapes[0].points", ""},
   });
 }
 

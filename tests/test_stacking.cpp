@@ -210,5 +210,25 @@ TEST(Stacking, ExactSolverOnAPileNeverBlowsUp) {
   EXPECT_LT(fastest, 1.0);
 }
 
+// A box asleep on a static support must fall when the support is taken away: the program moves
+// the support (setPose) and wakes it, which wakes what touched it.
+TEST(Stacking, SleepingBoxFallsWhenItsSupportIsRemoved) {
+  World world(stackSettings());
+  BodyDef table;
+  table.name = "table";
+  table.is_static = true;
+  table.position = Vec3(0, 0, -0.05);
+  table.shapes.push_back(ShapeDef{.type = ShapeType::Box, .size = Vec3(1, 1, 0.1)});
+  const BodyId support = world.createBody(table);
+  const BodyId box = world.createBody(cube("box", Vec3(0, 0, kSide / 2)));
+  for (int i = 0; i < 240; ++i) world.step();
+  ASSERT_TRUE(world.isAsleep(box));
+  world.body(support).setPose(Pose{Vec3(0, 0, -10), Quat::Identity()});
+  world.wake(support);
+  for (int i = 0; i < 120; ++i) world.step();  // 0.5 s of free fall: 1.2 m
+  EXPECT_FALSE(world.isAsleep(box));
+  EXPECT_LT(world.body(box).position().z(), -1.0);
+}
+
 }  // namespace
 }  // namespace linx

@@ -32,7 +32,8 @@ bool isSolid(ShapeType type);
 
 /// Gives a body the mass, centre of mass and inertia of its solid shapes at their densities. The
 /// body's position moves to the shapes' common centre of mass and the shapes are moved the other
-/// way in the body frame, so they stay where they were in the world. Throws std::invalid_argument
+/// way in the body frame, so they stay where they were in the world; the linear velocity becomes
+/// that centre's (v + w x offset). Throws std::invalid_argument
 /// naming the shape if a solid shape has no density (or a non-positive one), or if the body has
 /// no solid shape.
 void setMassFromShapes(BodyDef& body);

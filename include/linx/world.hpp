@@ -85,7 +85,8 @@ class World {
   /// A sleeping body is not integrated until a body of its island moves again. Giving it a
   /// velocity or a load wakes it; after moving it with setPose, call wake().
   bool isAsleep(BodyId id) const;
-  /// Wakes the body (and, at the next step, its island).
+  /// Wakes the body (and, at the next step, its island) and the bodies it touched in the last step.
+  /// For a static body (after moving it with setPose) only the bodies it touched.
   void wake(BodyId id);
 
   /// The contact points of the last step, with their impulses.
@@ -110,6 +111,7 @@ class World {
  private:
   struct Impl;
   void substep(double h);
+  void wakeWithNeighbours(int index);
 
   WorldSettings settings_;
   std::vector<Body> bodies_;

@@ -129,7 +129,10 @@ void setMassFromShapes(BodyDef& body) {
   const MassProperties total = combine(parts);
   body.mass = total.mass;
   body.inertia = total.inertia;
-  body.position += body.orientation.normalized() * total.center;
+  // The stated position and velocity were the shapes' origin's; the body's are its centre's.
+  const Vec3 offset = body.orientation.normalized() * total.center;
+  body.position += offset;
+  body.linear_velocity += body.angular_velocity.cross(offset);
   for (ShapeDef& s : body.shapes) s.position -= total.center;
 }
 

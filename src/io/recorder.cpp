@@ -148,6 +148,11 @@ void Recorder::commit() {
     fs::rename(files_->temp[i], final_path, ec);
     if (ec) throw ioError("rename to", final_path, ec.value());
   }
+  // A contacts.csv left by an earlier run with --contacts would not belong to this one.
+  if (files_->temp[kContacts].empty()) {
+    std::error_code ec;
+    fs::remove(dir_ / kFileNames[kContacts], ec);
+  }
   files_->keep = true;
   committed_ = true;
 }

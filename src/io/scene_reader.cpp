@@ -22,6 +22,7 @@
 #include <system_error>
 #include <utility>
 
+#include "collision/geometry.hpp"
 #include "io/mesh_file.hpp"
 
 namespace linx {
@@ -507,6 +508,15 @@ class Reader {
     if (auto v = get(n, "mask")) s.mask = static_cast<std::uint32_t>(bits(*v));
     if (!isSolid(s.type) && s.density)
       fail(childPath(n.path, "density"), fmt::format("a {} has no volume", name));
+    if (s.type == ShapeType::Convex || s.type == ShapeType::Mesh) {
+      // A hull must span a volume, a mesh must have proper triangles: check them now, so that the
+      // error names the field (the world would reject them later without a path).
+      try {
+        collision::prepareGeometry(s);
+      } catch (const std::invalid_argument& e) {
+        fail(childPath(n.path, s.file.empty() ? "points" : "file"), e.what());
+      }
+    }
     return s;
   }
 

@@ -14,10 +14,18 @@ namespace {
 /// Identity of a contact across steps: bit 63 (a contact, not a joint), the two global shape
 /// indices and the feature id; the low two bits stay free for the row slot.
 std::uint64_t contactKey(int shape_a, int shape_b, std::uint32_t feature) {
-  const auto a = static_cast<std::uint64_t>(shape_a) & 0xfffffu;
-  const auto b = static_cast<std::uint64_t>(shape_b) & 0xfffffu;
-  const auto f = static_cast<std::uint64_t>(feature) & 0x1fffffu;
-  return (std::uint64_t{1} << 63) | (a << 43) | (b << 23) | (f << 2);
+  // The pair and the whole 32-bit feature do not fit in 61 bits: mix them (splitmix64 steps), so
+  // that two points share a key only by a 2^-61 chance (and then merely share a warm start).
+  auto mix = [](std::uint64_t x) {
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9u;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebu;
+    return x ^ (x >> 31);
+  };
+  const std::uint64_t pair =
+      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(shape_a)) << 32) |
+      static_cast<std::uint32_t>(shape_b);
+  const std::uint64_t h = mix(mix(pair) ^ feature);
+  return (std::uint64_t{1} << 63) | (h & ~std::uint64_t{3} & ~(std::uint64_t{1} << 63));
 }
 
 /// The pair's law: friction sqrt(mu_a mu_b) (a frictionless side makes the pair frictionless),
@@ -56,10 +64,21 @@ double sweep(const Body& body, const collision::Aabb& box, double h) {
 }  // namespace
 
 void ContactStage::addBody(const Body& body) {
+  // Prepare every shape first: a shape that throws leaves the stage as it was.
+  std::vector<std::shared_ptr<const collision::Geometry>> prepared;
+  for (const ShapeDef& shape : body.shapes()) prepared.push_back(collision::prepareGeometry(shape));
+  const int index = static_cast<int>(first_shape_.size());
   first_shape_.push_back(static_cast<int>(geometry_.size()));
-  for (const ShapeDef& shape : body.shapes()) {
-    geometry_.push_back(collision::prepareGeometry(shape));
-    shape_body_.push_back(static_cast<int>(first_shape_.size()) - 1);
+  for (auto& g : prepared) {
+    geometry_.push_back(std::move(g));
+    shape_body_.push_back(index);
+  }
+}
+
+void ContactStage::touching(int body, std::vector<int>& out) const {
+  for (const ContactRecord& r : records_) {
+    if (r.body_a == body) out.push_back(r.body_b);
+    if (r.body_b == body) out.push_back(r.body_a);
   }
 }
 

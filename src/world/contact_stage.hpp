@@ -57,6 +57,8 @@ class ContactStage {
   void store(std::span<const Body> bodies, std::span<const double> lambda);
 
   std::span<const ContactRecord> records() const { return records_; }
+  /// Appends the bodies that touched `body` in the last step.
+  void touching(int body, std::vector<int>& out) const;
   std::span<const Contact> contacts() const { return contacts_; }
 
  private:

@@ -43,7 +43,8 @@ struct World::Impl {
   world::SleepTracker sleep;
   std::vector<std::pair<int, int>> links;
   std::vector<std::uint8_t> movable, was_asleep, may_sleep;
-  std::vector<double> lambda0;  // the warm-start impulses, kept for sleeping islands
+  std::vector<double> lambda0;
+  std::vector<int> neighbours;  // the warm-start impulses, kept for sleeping islands
   std::unique_ptr<solver::ConstraintSolver> solver;
   SolverType solver_type = SolverType::Auto;  // what `solver` is
 };
@@ -98,6 +99,9 @@ JointId World::createJoint(std::string_view type, const JointDef& def) {
   if (findJoint(def.name))
     throw std::invalid_argument(fmt::format("duplicate joint name '{}'", def.name));
   joints_.push_back(makeJoint(type, def, bodyState(def.body1), bodyState(def.body2)));
+  // A new joint may pull on sleeping bodies.
+  impl_->sleep.wake(def.body1.index);
+  if (!def.body2.isWorld()) impl_->sleep.wake(def.body2.index);
   return JointId{jointCount() - 1};
 }
 
@@ -173,7 +177,7 @@ void World::substep(double h) {
     const Body& b = bodies_[i];
     if (!awake(i) && (!b.linearVelocity().isZero(0) || !b.angularVelocity().isZero(0) ||
                       !b.force().isZero(0) || !b.torque().isZero(0)))
-      m.sleep.wake(static_cast<int>(i));
+      wakeWithNeighbours(static_cast<int>(i));
   }
   // 1. velocities (sleeping bodies stay at rest)
   for (std::size_t i = 0; i < bodies_.size(); ++i)
@@ -263,7 +267,17 @@ bool World::isAsleep(BodyId id) const {
 
 void World::wake(BodyId id) {
   body(id);
-  impl_->sleep.wake(id.index);
+  wakeWithNeighbours(id.index);
+}
+
+void World::wakeWithNeighbours(int index) {
+  // The bodies it touched wake too: if it moves away, or was moved away, they must notice (the
+  // islands of the next step no longer link them). A static body wakes only its neighbours.
+  if (!bodies_[static_cast<std::size_t>(index)].isStatic()) impl_->sleep.wake(index);
+  impl_->neighbours.clear();
+  impl_->contact.touching(index, impl_->neighbours);
+  for (const int n : impl_->neighbours)
+    if (!bodies_[static_cast<std::size_t>(n)].isStatic()) impl_->sleep.wake(n);
 }
 
 std::span<const Contact> World::contacts() const {
