@@ -10,6 +10,7 @@
 #include <linx/joint.hpp>
 #include <linx/solver.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
@@ -17,7 +18,8 @@
 namespace linx::world {
 
 /// Projects the bodies' positions onto the joint constraints. Returns the largest remaining error.
+/// Bodies flagged in `frozen` (sleeping ones) are held where they are, as if static.
 double projectPositions(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
-                        const SolverSettings& settings);
+                        const SolverSettings& settings, std::span<const std::uint8_t> frozen = {});
 
 }  // namespace linx::world

@@ -239,7 +239,10 @@ void World::substep(double h) {
   for (std::size_t i = 0; i < bodies_.size(); ++i)
     if (awake(i)) dynamics::integratePosition(bodies_[i], h);
   // 6. projection
-  if (settings_.solver.projection) world::projectPositions(joints_, bodies_, settings_.solver);
+  if (settings_.solver.projection) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) m.was_asleep[i] = !awake(i);
+    world::projectPositions(joints_, bodies_, settings_.solver, m.was_asleep);
+  }
   // 7. tracking
   for (auto& j : joints_) j->track(bodyState(j->body1()), bodyState(j->body2()));
   // 8. sleeping: islands at rest long enough fall asleep, their bodies stop
