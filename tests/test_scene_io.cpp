@@ -469,6 +469,41 @@ TEST(SceneReader, MassFromShapeDensities) {
   EXPECT_NEAR(b.inertia(2, 2), 1000.0 / 6 + 1000 * 0.5625 + 3000.0 / 6 + 3000 * 0.0625, 1e-9);
 }
 
+TEST(SceneReader, ContactAndSleepBlocks) {
+  const linx::Scene scene = linx::parseScene(R"({
+    "contact": {"margin": 0.02, "slop": 0.001, "stiffness": 1e5, "damping": 50,
+                "restitution_threshold": 0.5},
+    "sleep": {"enabled": false, "linear_velocity": 0.01, "angular_velocity": 0.02, "time": 1},
+    "bodies": [{"name": "b", "mass": 1, "inertia": [1, 1, 1]}]})",
+                                             "scene.json");
+  const linx::ContactSettings& c = scene.settings.contact;
+  EXPECT_EQ(c.margin, 0.02);
+  EXPECT_EQ(c.slop, 0.001);
+  EXPECT_EQ(c.stiffness, 1e5);
+  EXPECT_EQ(c.damping, 50.0);
+  EXPECT_EQ(c.restitution_threshold, 0.5);
+  const linx::SleepSettings& z = scene.settings.sleep;
+  EXPECT_FALSE(z.enabled);
+  EXPECT_EQ(z.linear_velocity, 0.01);
+  EXPECT_EQ(z.angular_velocity, 0.02);
+  EXPECT_EQ(z.time, 1.0);
+}
+
+TEST(SceneError, ContactAndSleep) {
+  expectErrors({
+      {[](json& s) { s["contact"]["slop"] = -1; }, "contact.slop", "must be >= 0, got -1"},
+      {[](json& s) { s["contact"]["stiffness"] = 1e4; }, "contact.damping",
+       "missing required field (stiffness and damping go together)"},
+      {[](json& s) { s["contact"] = json::parse(R"({"stiffness": 1, "damping": 1, "erp": 0.1})"); },
+       "contact.erp", "give either erp and cfm, or stiffness and damping"},
+      {[](json& s) { s["contact"]["marginn"] = 1; }, "contact.marginn",
+       "unknown field (did you mean 'margin'?)"},
+      {[](json& s) { s["sleep"]["time"] = -1; }, "sleep.time", "must be >= 0, got -1"},
+      {[](json& s) { s["sleep"]["enabled"] = 1; }, "sleep.enabled",
+       "expected true or false, got a number"},
+  });
+}
+
 TEST(SceneError, Bodies) {
   expectErrors({
       {[](json& s) { s["bodies"][0] = 5; }, "bodies[0]", "expected an object, got a number"},

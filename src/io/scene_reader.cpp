@@ -182,7 +182,8 @@ class Reader {
     const Node node{root, ""};
     if (!root.is_object())
       fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
-    allowOnly(node, {"gravity", "timestep", "duration", "solver", "contact", "bodies", "joints"});
+    allowOnly(node, {"gravity", "timestep", "duration", "solver", "contact", "sleep", "bodies",
+                     "joints"});
 
     Scene scene;
     scene.file = file_;
@@ -191,6 +192,7 @@ class Reader {
     if (auto n = get(node, "duration")) scene.duration = positive(*n);
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
     if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);
+    if (auto n = get(node, "sleep")) scene.settings.sleep = sleep(*n);
 
     const Node bodies = require(node, "bodies");
     expectArray(bodies);
@@ -428,6 +430,16 @@ class Reader {
       c.damping = nonNegative(*d);
     }
     return c;
+  }
+
+  SleepSettings sleep(const Node& n) const {
+    allowOnly(n, {"enabled", "linear_velocity", "angular_velocity", "time"});
+    SleepSettings s;
+    if (auto v = get(n, "enabled")) s.enabled = boolean(*v);
+    if (auto v = get(n, "linear_velocity")) s.linear_velocity = nonNegative(*v);
+    if (auto v = get(n, "angular_velocity")) s.angular_velocity = nonNegative(*v);
+    if (auto v = get(n, "time")) s.time = nonNegative(*v);
+    return s;
   }
 
   ShapeDef shape(const Node& n) const {
