@@ -274,6 +274,28 @@ bool sphereBoxLocal(const Vec3& c, double r, const Vec3& h, double margin, Local
   return true;
 }
 
+/// Clips the segment p0 + t (p1 - p0), t in [0, 1], to the slabs |x_i| <= h_i of every axis but
+/// `skip` (-1: all three). False when nothing is left; otherwise [t0, t1] is what remains.
+bool clipSegmentToSlabs(const Vec3& p0, const Vec3& p1, const Vec3& h, int skip, double& t0,
+                        double& t1) {
+  const Vec3 d = p1 - p0;
+  t0 = 0.0;
+  t1 = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    if (i == skip) continue;
+    if (std::abs(d[i]) <= kTinyLength) {
+      if (std::abs(p0[i]) > h[i]) return false;
+      continue;
+    }
+    double ta = (-h[i] - p0[i]) / d[i], tb = (h[i] - p0[i]) / d[i];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
 /// The capsule core [p0, p1] (box frame) against the face sign * e_k of the box, whose outward
 /// normal f points towards the capsule: the core is clipped to the prism over the face
 /// (|x_i| <= h_i for the two other axes i) and each end of the clipped part is a point, of
@@ -285,19 +307,8 @@ bool sphereBoxLocal(const Vec3& c, double r, const Vec3& h, double margin, Local
 bool clipCoreToFace(const Vec3& p0, const Vec3& p1, double r, const Vec3& h, int k, double sign,
                     double margin, std::uint32_t base, LocalPoints& points) {
   const Vec3 d = p1 - p0;
-  double t0 = 0.0, t1 = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    if (i == k) continue;
-    if (std::abs(d[i]) <= kTinyLength) {
-      if (std::abs(p0[i]) > h[i]) return false;
-      continue;
-    }
-    double ta = (-h[i] - p0[i]) / d[i], tb = (h[i] - p0[i]) / d[i];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  if (t0 > t1) return false;
+  double t0, t1;
+  if (!clipSegmentToSlabs(p0, p1, h, k, t0, t1)) return false;
   const Vec3 f = sign * Vec3::Unit(k);
   const bool single = (t1 - t0) * d.norm() <= kTinyLength;  // the clipped core is a point
   const std::array<double, 2> ts{t0, t1};
@@ -314,20 +325,8 @@ bool clipCoreToFace(const Vec3& p0, const Vec3& p1, double r, const Vec3& h, int
 
 /// True when the segment [p0, p1] meets the box [-h, h] (slab test on the three axes).
 bool segmentMeetsBox(const Vec3& p0, const Vec3& p1, const Vec3& h) {
-  const Vec3 d = p1 - p0;
-  double t0 = 0.0, t1 = 1.0;
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(d[i]) <= kTinyLength) {
-      if (std::abs(p0[i]) > h[i]) return false;
-      continue;
-    }
-    double ta = (-h[i] - p0[i]) / d[i], tb = (h[i] - p0[i]) / d[i];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-    if (t0 > t1) return false;
-  }
-  return true;
+  double t0, t1;
+  return clipSegmentToSlabs(p0, p1, h, -1, t0, t1);
 }
 
 /// The two ends of box edge number `edge` (box frame). Edge 4 a + m runs along axis a; bit 0 of m

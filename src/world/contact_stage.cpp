@@ -99,7 +99,8 @@ void ContactStage::detect(std::span<const Body> bodies,
 
   // Broadphase over every shape, boxes grown by the margin and the step's sweep.
   boxes_.resize(geometry_.size());
-  std::vector<double> reach(geometry_.size());
+  std::vector<double>& reach = reach_;
+  reach.resize(geometry_.size());
   for (std::size_t s = 0; s < geometry_.size(); ++s) {
     const Body& body = bodies[static_cast<std::size_t>(shape_body_[s])];
     const int local = static_cast<int>(s) - first_shape_[static_cast<std::size_t>(shape_body_[s])];
