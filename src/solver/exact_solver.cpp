@@ -37,7 +37,74 @@ void ExactSolver::buildMatrix(const Problem& p) {
     b_[int(k)] = RowSystem::rate(p.rows[k], p.bodies) - sys_.target[k];
 }
 
+void ExactSolver::multiply(const Problem& p, std::span<const double> x, std::span<double> out) {
+  body_work_.assign(p.bodies.size(), Vec6::Zero());
+  for (std::size_t k = 0; k < p.rows.size(); ++k) {
+    const Row& r = p.rows[k];
+    if (x[k] == 0.0) continue;
+    if (r.body_a >= 0) body_work_[static_cast<std::size_t>(r.body_a)] += x[k] * sys_.Wa[k];
+    if (r.body_b >= 0) body_work_[static_cast<std::size_t>(r.body_b)] += x[k] * sys_.Wb[k];
+  }
+  for (std::size_t k = 0; k < p.rows.size(); ++k) {
+    const Row& r = p.rows[k];
+    double v = r.cfm * x[k];
+    if (r.body_a >= 0) v += r.Ja.dot(body_work_[static_cast<std::size_t>(r.body_a)]);
+    if (r.body_b >= 0) v += r.Jb.dot(body_work_[static_cast<std::size_t>(r.body_b)]);
+    out[k] = v;
+  }
+}
+
+int ExactSolver::solveFreeTree(const Problem& p) {
+  const std::size_t n = p.rows.size();
+  free_.resize(n);
+  x_.resize(n);
+  y_.resize(n);
+  rhs_.resize(n);
+  bool any = false;
+  for (std::size_t k = 0; k < n; ++k) {
+    free_[k] = state_[k] == State::Free;
+    any = any || free_[k];
+    x_[k] = free_[k] ? 0.0 : p.lambda[k];  // the held impulses
+  }
+  if (!any) return 0;
+  // A_FF x = -(b_F + A_FC lambda_C)
+  multiply(p, x_, y_);
+  for (std::size_t k = 0; k < n; ++k) rhs_[k] = free_[k] ? -(b_[int(k)] + y_[k]) : 0.0;
+  const int redundant = tree_factor_.factorize(p, free_);
+  std::copy(rhs_.begin(), rhs_.end(), x_.begin());
+  tree_factor_.solve(x_);
+  // Refinement against the unshifted matrix, while the residual keeps falling (see solveFree).
+  const auto residual = [&](std::span<const double> x, std::vector<double>& r) {
+    multiply(p, x, y_);
+    double worst = 0.0;
+    r.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      r[k] = free_[k] ? rhs_[k] - y_[k] : 0.0;
+      worst = std::max(worst, std::abs(r[k]));
+    }
+    return worst;
+  };
+  double scale = 0.0;
+  for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::abs(rhs_[k]));
+  std::vector<double>& r = w_;
+  double res = residual(x_, r);
+  for (int refine = 0; refine < 3 && res > 1e-15 * (1.0 + scale); ++refine) {
+    tree_factor_.solve(r);
+    std::vector<double>& candidate = candidate_;
+    candidate.resize(n);
+    for (std::size_t k = 0; k < n; ++k) candidate[k] = r[k] + x_[k];
+    const double next = residual(candidate, r);
+    if (!(next < 0.5 * res)) break;
+    x_.swap(candidate);
+    res = next;
+  }
+  for (std::size_t k = 0; k < n; ++k)
+    if (free_[k]) p.lambda[k] = x_[k];
+  return redundant;
+}
+
 int ExactSolver::solveFree(const Problem& p) {
+  if (tree_) return solveFreeTree(p);
   const int n = int(p.rows.size());
   free_index_.assign(std::size_t(n), -1);
   int nf = 0;
@@ -113,7 +180,14 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
   report.rows = int(n);
   if (n == 0) return report;
   sys_.build(p);
-  buildMatrix(p);
+  tree_ = tree_factor_.analyse(p);
+  if (tree_) {
+    b_.resize(int(n));
+    for (std::size_t k = 0; k < n; ++k)
+      b_[int(k)] = RowSystem::rate(p.rows[k], p.bodies) - sys_.target[k];
+  } else {
+    buildMatrix(p);
+  }
   guess_.assign(p.lambda.begin(), p.lambda.end());  // the warm start, for the fallback below
 
   // Initial states from the guess: rows at a finite bound start there.
@@ -142,8 +216,14 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
     report.redundant_rows = solveFree(p);
     report.iterations = it + 1;
 
-    const Eigen::Map<const Eigen::VectorXd> lam(p.lambda.data(), int(n));
-    w = a_ * lam + b_;
+    if (tree_) {
+      y_.resize(n);
+      multiply(p, p.lambda, y_);
+      for (std::size_t k = 0; k < n; ++k) w[int(k)] = y_[k] + b_[int(k)];
+    } else {
+      const Eigen::Map<const Eigen::VectorXd> lam(p.lambda.data(), int(n));
+      w = a_ * lam + b_;
+    }
     infeasible.clear();
     bool bounds_moved = false;  // a held row whose bound followed another row (friction)
     for (std::size_t k = 0; k < n; ++k) {

@@ -3,15 +3,17 @@
 #include "solver/pgs_solver.hpp"
 #include "solver/problem.hpp"
 #include "solver/row_system.hpp"
+#include "solver/tree_factorization.hpp"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 namespace linx::solver {
 
-/// Exact solver for mechanisms. Rows with free impulses are solved together, to round-off, by a
-/// sparse LDL^T factorization of A_FF (fill-reducing ordering, so chains and trees cost O(n)
-/// and closed loops are handled alike); rows at a bound hold their bound. An active-set outer loop
+/// Exact solver for mechanisms. Rows with free impulses are solved together, to round-off; rows at
+/// a bound hold their bound. Mechanisms without loops (chains, trees) are factored in O(n) along
+/// their tree (TreeFactorization); closed loops by a sparse LDL^T of A_FF with a fill-reducing
+/// ordering. An active-set outer loop
 /// (block principal pivoting, falling back to single pivots when the number of infeasible rows
 /// stops falling) moves rows between free and bound until every row is complementary.
 /// Redundant rows (A singular, an over-constrained mechanism) are survived through a tiny
@@ -25,8 +27,11 @@ class ExactSolver final : public ConstraintSolver {
   using SpMat = Eigen::SparseMatrix<double>;
 
   void buildMatrix(const Problem& p);
+  /// out = A x (all rows), from the rows and M^-1 J^T alone: O(rows), no matrix.
+  void multiply(const Problem& p, std::span<const double> x, std::span<double> out);
   /// Solves the free rows for the current states; returns the number of redundant pivots.
   int solveFree(const Problem& p);
+  int solveFreeTree(const Problem& p);
 
   RowSystem sys_;
   SpMat a_;            // A = J M^-1 J^T + diag(cfm), full symmetric
@@ -35,6 +40,11 @@ class ExactSolver final : public ConstraintSolver {
   std::vector<int> free_index_;
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt_;
   std::vector<double> guess_;  // the initial impulses of the current solve
+  bool tree_ = false;          // this solve goes through tree_factor_
+  TreeFactorization tree_factor_;
+  std::vector<std::uint8_t> free_;
+  std::vector<double> x_, y_, rhs_, w_, candidate_;
+  std::vector<Vec6> body_work_;
   PgsSolver pgs_;  // finishes a solve whose active set did not settle within the iteration cap
 };
 

@@ -1,7 +1,8 @@
 #pragma once
 
 #include "solver/problem.hpp"
-#include "solver/row_system.hpp"
+
+#include <vector>
 
 namespace linx::solver {
 
@@ -9,12 +10,28 @@ namespace linx::solver {
 /// slack, clamp it to its bounds and apply the change to both bodies at once. Starts from the
 /// given lambda (warm start); stops on the iteration cap or when the largest complementarity
 /// violation falls below the tolerance.
+///
+/// The sweep runs on a compact copy of the rows (J and M^-1 J^T of both ends, side by side) and
+/// of the body velocities, so that one row update reads one contiguous record and two velocity
+/// slots: the buffers are kept between solves and do not allocate once grown.
 class PgsSolver final : public ConstraintSolver {
  public:
   SolverReport solve(Problem& p, const SolverSettings& settings) override;
 
  private:
-  RowSystem sys_;
+  struct Velocity {
+    Vec3 v = Vec3::Zero(), w = Vec3::Zero();
+  };
+  struct CompactRow {
+    Vec3 ja_v, ja_w, jb_v, jb_w;                     // J, linear and angular part of each end
+    Vec3 wa_v, wa_w, wb_v, wb_w;                     // M^-1 J^T
+    double inv_diag, diag, target, cfm, lo, hi, mu;  // diag: A_kk / sor, for the violation
+    int a, b;    // velocity slots; a row end without a body points at a slot that stays zero
+    int normal;  // friction rows: the normal row whose impulse bounds this one, else -1
+  };
+
+  std::vector<CompactRow> rows_;
+  std::vector<Velocity> velocities_;
 };
 
 }  // namespace linx::solver

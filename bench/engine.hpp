@@ -1,0 +1,53 @@
+// The interface every engine adapter implements. An adapter builds a Scene once, then steps it;
+// the runner times step() alone and reads poses between steps for the accuracy figures.
+#pragma once
+
+#include "scene.hpp"
+
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+/// Thrown by a factory for a scene the engine variant does not run (too large for a dense
+/// solver, a feature it lacks); what() says why, and the table prints it.
+class Unsupported : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Pose {
+  Vec3 position = Vec3::Zero();  ///< centre of mass, world frame (m)
+  Quat orientation = Quat::Identity();
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  /// Advances the world by scene.timestep (one step, no substeps unless the settings say so).
+  virtual void step() = 0;
+  /// The pose of Scene::bodies[i] (static bodies included).
+  virtual Pose pose(int i) const = 0;
+};
+
+/// One engine with one set of solver settings, as a row of the table.
+struct Variant {
+  std::string engine;    ///< "linx", "ODE", "Bullet", "MuJoCo"
+  std::string settings;  ///< "QuickStep, 20 iterations", "btMultiBody", ...
+  /// Builds the scene; throws Unsupported when this variant does not run it.
+  std::function<std::unique_ptr<Engine>(const Scene&)> make;
+  /// The linx row that the table's time ratios of this scene are taken against.
+  bool reference = false;
+};
+
+/// Variants of each engine compiled into this build. The peers' functions exist only when their
+/// Debian package was found at configure time (LINX_BENCH_HAVE_ODE and so on).
+std::vector<Variant> linxVariants(const Scene& scene);
+std::vector<Variant> odeVariants(const Scene& scene);
+std::vector<Variant> bulletVariants(const Scene& scene);
+std::vector<Variant> mujocoVariants(const Scene& scene);
+
+}  // namespace bench

@@ -1,0 +1,156 @@
+// linx built from a bench::Scene through its public API, exactly as a user would.
+#include "../engine.hpp"
+
+#include <linx/linx.hpp>
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+namespace bench {
+namespace {
+
+linx::ShapeDef shapeOf(const Shape& s, double friction) {
+  linx::ShapeDef d;
+  switch (s.kind) {
+    case Shape::Kind::Sphere:
+      d.type = linx::ShapeType::Sphere;
+      d.radius = s.radius;
+      break;
+    case Shape::Kind::Box:
+      d.type = linx::ShapeType::Box;
+      d.size = 2.0 * s.half_extents;
+      break;
+    case Shape::Kind::Capsule:
+      d.type = linx::ShapeType::Capsule;
+      d.radius = s.radius;
+      d.length = 2.0 * s.half_length;
+      break;
+    case Shape::Kind::None:
+      break;
+  }
+  d.friction = friction;
+  return d;
+}
+
+class LinxEngine final : public Engine {
+ public:
+  LinxEngine(const Scene& scene, const linx::SolverSettings& solver) {
+    linx::WorldSettings settings;
+    settings.gravity = scene.gravity;
+    settings.timestep = scene.timestep;
+    settings.solver = solver;
+    world_ = linx::World(settings);
+    ids_.reserve(scene.bodies.size());
+    for (const Body& b : scene.bodies) {
+      linx::BodyDef def;
+      def.name = b.name;
+      def.is_static = b.is_static;
+      def.mass = b.mass;
+      def.inertia = b.inertia.asDiagonal();
+      def.position = b.position;
+      def.orientation = b.orientation;
+      def.linear_velocity = b.velocity;
+      def.angular_velocity = b.angular_velocity;
+      if (b.shape.kind != Shape::Kind::None) def.shapes.push_back(shapeOf(b.shape, scene.friction));
+      ids_.push_back(world_.createBody(def));
+    }
+    if (scene.ground_z) {
+      linx::ShapeDef plane;
+      plane.type = linx::ShapeType::Plane;
+      plane.normal = Vec3::UnitZ();
+      plane.offset = *scene.ground_z;
+      plane.friction = scene.friction;
+      linx::BodyDef ground;
+      ground.name = "ground";
+      ground.is_static = true;
+      ground.shapes.push_back(plane);
+      world_.createBody(ground);
+    }
+    for (const Joint& j : scene.joints) {
+      // linx's body1 must be a body; a joint to the world names the world as body2. Swapping the
+      // bodies turns the coordinate's sign, so limits and motor turn with it.
+      const bool swap = j.body1 < 0;
+      const int b1 = swap ? j.body2 : j.body1, b2 = swap ? j.body1 : j.body2;
+      const double sign = swap ? -1.0 : 1.0;
+      linx::JointDef def;
+      def.name = std::to_string(world_.jointCount()).insert(0, "joint");
+      def.body1 = ids_[b1];
+      def.body2 = b2 < 0 ? linx::kWorldBody : ids_[b2];
+      def.anchor = j.anchor;
+      def.axis = j.axis;
+      if (j.limits) {
+        const double lo = sign * j.limits->lower, hi = sign * j.limits->upper;
+        def.limits = linx::JointLimits{std::min(lo, hi), std::max(lo, hi)};
+      }
+      if (j.motor)
+        def.motor = linx::JointMotor{sign * j.motor->target_velocity, j.motor->max_force};
+      world_.createJoint(typeName(j.kind), def);
+    }
+  }
+
+  void step() override { world_.step(); }
+  Pose pose(int i) const override {
+    const linx::Body& b = world_.body(ids_[i]);
+    return {b.position(), b.orientation()};
+  }
+
+ private:
+  static const char* typeName(Joint::Kind kind) {
+    switch (kind) {
+      case Joint::Kind::Hinge:
+        return "hinge";
+      case Joint::Kind::Slider:
+        return "slider";
+      case Joint::Kind::Ball:
+        return "ball";
+      case Joint::Kind::Fixed:
+        return "fixed";
+    }
+    return "?";
+  }
+
+  linx::World world_;
+  std::vector<linx::BodyId> ids_;
+};
+
+bool hasContacts(const Scene& scene) {
+  if (scene.ground_z) return true;
+  for (const Body& b : scene.bodies) {
+    if (b.shape.kind != Shape::Kind::None) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<Variant> linxVariants(const Scene& scene) {
+  const auto variant = [](std::string settings, linx::SolverSettings solver, bool reference) {
+    return Variant{"linx", std::move(settings),
+                   [solver](const Scene& s) -> std::unique_ptr<Engine> {
+                     return std::make_unique<LinxEngine>(s, solver);
+                   },
+                   reference};
+  };
+  const linx::SolverSettings defaults;
+  std::vector<Variant> out;
+  if (hasContacts(scene)) {
+    out.push_back(variant("default: auto (PGS on friction islands, " +
+                              std::to_string(defaults.iterations) + " it max)",
+                          defaults, true));
+    return out;
+  }
+  // Mechanisms: the default, then with position projection, which removes the joint drift that
+  // a velocity-level step leaves (docs/architecture.md), and with substeps for stiff chains.
+  out.push_back(variant("default: auto (exact, ERP 0.2)", defaults, true));
+  linx::SolverSettings projected = defaults;
+  projected.type = linx::SolverType::Exact;
+  projected.projection = true;
+  out.push_back(variant("exact + projection", projected, false));
+  linx::SolverSettings substepped = projected;
+  substepped.substeps = 4;
+  out.push_back(variant("exact + projection, 4 substeps", substepped, false));
+  return out;
+}
+
+}  // namespace bench

@@ -1,0 +1,23 @@
+// Stand-ins for the peers whose Debian packages were not found at configure time: each returns no
+// variants, so the table lists linx alone for that engine. Compiled only for missing peers.
+#include "../engine.hpp"
+
+namespace bench {
+
+#ifndef LINX_BENCH_HAVE_ODE
+std::vector<Variant> odeVariants(const Scene&) {
+  return {};
+}
+#endif
+#ifndef LINX_BENCH_HAVE_BULLET
+std::vector<Variant> bulletVariants(const Scene&) {
+  return {};
+}
+#endif
+#ifndef LINX_BENCH_HAVE_MUJOCO
+std::vector<Variant> mujocoVariants(const Scene&) {
+  return {};
+}
+#endif
+
+}  // namespace bench

@@ -1,0 +1,141 @@
+// linx-bench: the scenes of issue 4 in linx and, where they were found at configure time, in ODE,
+// Bullet and MuJoCo, one after another in one process; prints one table and the targets.
+// See docs/performance.md.
+#include "engine.hpp"
+#include "report.hpp"
+#include "runner.hpp"
+#include "scenes.hpp"
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct SceneEntry {
+  std::string key;  // as named on the command line
+  std::function<bench::Scene()> make;
+  int bodies;  // for --max-bodies, without building it
+};
+
+std::vector<SceneEntry> sceneList(bool quick) {
+  using namespace bench;
+  std::vector<SceneEntry> list;
+  const std::vector<int> chain_sizes =
+      quick ? std::vector<int>{10} : std::vector<int>{10, 100, 1000};
+  for (int n : chain_sizes) list.push_back({"chain", [n] { return hingeChain(n); }, n});
+  for (int n : chain_sizes)
+    list.push_back({"heavy-chain", [n] { return hingeChain(n, 1000.0); }, n});
+  for (int base : quick ? std::vector<int>{10} : std::vector<int>{10, 20, 100}) {
+    list.push_back({"pyramid", [base] { return pyramid(base); }, base * (base + 1) / 2});
+  }
+  for (int n : quick ? std::vector<int>{1000} : std::vector<int>{1000, 8000, 64000}) {
+    list.push_back({"spheres", [n] { return pouredSpheres(n); }, n});
+  }
+  list.push_back({"slider-crank", [] { return sliderCrank(); }, 3});
+  const int dolls = quick ? 4 : 100;
+  list.push_back({"ragdolls", [dolls] { return ragdolls(dolls); }, 11 * dolls});
+  return list;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"linx-bench: linx against ODE, Bullet and MuJoCo on the same scenes", "linx-bench"};
+  std::vector<std::string> scene_names, engine_names;
+  bool quick = false;
+  int max_bodies = 0;
+  double budget = 120.0;
+  std::string markdown;
+  app.add_option("--scene", scene_names,
+                 "Scenes to run (default all): chain, heavy-chain, pyramid, spheres, slider-crank, "
+                 "ragdolls")
+      ->check(CLI::IsMember(
+          {"chain", "heavy-chain", "pyramid", "spheres", "slider-crank", "ragdolls"}));
+  app.add_option("--engine", engine_names,
+                 "Engines to run (default every one built): linx, ode, bullet, mujoco")
+      ->check(CLI::IsMember({"linx", "ode", "bullet", "mujoco"}));
+  app.add_flag("--quick", quick,
+               "Smallest size of each scene and 20 steps: a smoke test, not a measurement");
+  app.add_option("--max-bodies", max_bodies, "Skip scene sizes with more bodies than this")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--budget", budget,
+                 "Seconds of stepping per engine and scene before a run is cut short")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--markdown", markdown,
+                 "Also write the machine, command, table and targets to this Markdown file");
+  CLI11_PARSE(app, argc, argv);
+
+  std::string command = "linx-bench";
+  for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+  const auto wanted = [](const std::vector<std::string>& list, const std::string& name) {
+    return list.empty() || std::find(list.begin(), list.end(), name) != list.end();
+  };
+
+  std::vector<bench::Result> results;
+  for (const SceneEntry& entry : sceneList(quick)) {
+    if (!wanted(scene_names, entry.key)) continue;
+    if (max_bodies > 0 && entry.bodies > max_bodies) continue;
+    bench::Scene scene = entry.make();
+    if (quick) scene.steps = std::min(scene.steps, 20);
+    std::vector<bench::Variant> variants = bench::linxVariants(scene);
+    for (auto* more : {&bench::odeVariants, &bench::bulletVariants, &bench::mujocoVariants}) {
+      for (bench::Variant& v : more(scene)) variants.push_back(std::move(v));
+    }
+    for (const bench::Variant& v : variants) {
+      if (!wanted(engine_names, lower(v.engine))) continue;
+      std::fprintf(stderr, "%s %s: %s (%s) ...", scene.name.c_str(), scene.size.c_str(),
+                   v.engine.c_str(), v.settings.c_str());
+      std::fflush(stderr);
+      const auto t0 = std::chrono::steady_clock::now();
+      results.push_back(bench::run(scene, v, budget));
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::fprintf(stderr, " %.1f s%s%s\n", s, results.back().note.empty() ? "" : ": ",
+                   results.back().note.c_str());
+    }
+  }
+
+  const std::vector<std::string> machine = bench::machineDescription();
+  const std::vector<bench::Target> targets = bench::targets(results);
+  for (const std::string& line : machine) fmt::print("{}\n", line);
+  fmt::print("Command: {}\n\n{}\nTargets:\n{}", command, bench::table(results, false),
+             bench::targetLines(targets, false));
+  bool failed = false;
+  for (const bench::Result& r : results) failed = failed || (r.reference && !r.ran);
+
+  if (!markdown.empty()) {
+    const std::string tmp = markdown + ".tmp";
+    {
+      std::ofstream out(tmp);
+      out << "Machine:\n\n";
+      for (const std::string& line : machine) out << "- " << line << "\n";
+      out << "\nCommand: `" << command << "`\n\n"
+          << bench::table(results, true) << "\nTargets:\n\n"
+          << bench::targetLines(targets, true);
+      if (!out) {
+        std::fprintf(stderr, "linx-bench: %s: cannot write\n", tmp.c_str());
+        std::remove(tmp.c_str());
+        return 2;
+      }
+    }
+    if (std::rename(tmp.c_str(), markdown.c_str()) != 0) {
+      std::fprintf(stderr, "linx-bench: %s: cannot write\n", markdown.c_str());
+      std::remove(tmp.c_str());
+      return 2;
+    }
+  }
+  // A linx run that failed is an error; a peer's failure is only a line in the table.
+  return failed ? 1 : 0;
+}

@@ -1,0 +1,215 @@
+#include "report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <thread>
+
+namespace bench {
+namespace {
+
+// Accuracy figures below this are round-off: two engines under it are equally accurate.
+constexpr double kAccuracyFloor = 1e-9;
+
+std::string accuracyText(const Result& r) {
+  if (!r.ran) return "-";
+  if (std::isnan(r.accuracy)) return "NaN";
+  return fmt::format("{:.2e} m", r.accuracy);
+}
+
+bool asAccurate(double a, double b) {  // a at least as good as b
+  if (std::isnan(a)) return false;
+  if (std::isnan(b)) return true;
+  return a <= std::max(b, kAccuracyFloor);
+}
+
+const Result* linxOf(const std::vector<Result>& results, const Result& r) {
+  for (const Result& x : results) {
+    if (x.reference && x.ran && x.scene == r.scene && x.size == r.size) return &x;
+  }
+  return nullptr;
+}
+
+std::string firstLine(const std::string& path, const std::string& key) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(key, 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
+    }
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+std::vector<std::string> machineDescription() {
+  char date[32] = "";
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  return {fmt::format("CPU: {} ({} hardware threads)", firstLine("/proc/cpuinfo", "model name"),
+                      std::thread::hardware_concurrency()),
+          fmt::format("Memory: {}", firstLine("/proc/meminfo", "MemTotal")),
+          fmt::format("Compiler: GCC {}.{}.{}, {}", __GNUC__, __GNUC_MINOR__, __GNUC_PATCHLEVEL__,
+#ifdef NDEBUG
+                      "optimized (NDEBUG)"
+#else
+                      "assertions on: not a release build"
+#endif
+                      ),
+          fmt::format("Date: {}", date)};
+}
+
+std::string table(const std::vector<Result>& results, bool markdown) {
+  const std::vector<std::string> head = {"scene",       "size",     "engine",
+                                         "settings",    "ms/step",  "accuracy",
+                                         "time / linx", "heap MiB", "note"};
+  std::vector<std::vector<std::string>> rows;
+  for (const Result& r : results) {
+    const Result* lx = linxOf(results, r);
+    std::string ratio = "-";
+    if (r.ran && lx && lx->median_ms > 0)
+      ratio = fmt::format("{:.2f}", r.median_ms / lx->median_ms);
+    std::string note = r.note;
+    if (r.ran && r.steps < r.steps_planned) {
+      note = fmt::format("{} ({} of {} steps)", note, r.steps, r.steps_planned);
+    }
+    rows.push_back({r.scene, r.size, r.engine, r.settings,
+                    r.ran ? fmt::format("{:.4g}", r.median_ms) : "-", accuracyText(r), ratio,
+                    r.ran ? fmt::format("{:.1f}", r.heap_peak_mib) : "-", note});
+  }
+  std::string out;
+  if (markdown) {
+    const auto line = [&](const std::vector<std::string>& cells) {
+      out += "|";
+      for (const std::string& c : cells) out += " " + c + " |";
+      out += "\n";
+    };
+    line(head);
+    out += "|";
+    for (std::size_t i = 0; i < head.size(); ++i) out += i >= 4 && i <= 7 ? "---:|" : "---|";
+    out += "\n";
+    for (const auto& row : rows) line(row);
+    return out;
+  }
+  std::vector<std::size_t> width(head.size());
+  for (std::size_t i = 0; i < head.size(); ++i) width[i] = head[i].size();
+  for (const auto& row : rows) {
+    for (std::size_t i = 0; i < row.size(); ++i) width[i] = std::max(width[i], row[i].size());
+  }
+  const auto line = [&](const std::vector<std::string>& cells) {
+    std::string l;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const bool right = i >= 4 && i <= 7;
+      l += right ? fmt::format("{:>{}}", cells[i], width[i])
+                 : fmt::format("{:<{}}", cells[i], width[i]);
+      l += i + 1 < cells.size() ? "  " : "";
+    }
+    while (!l.empty() && l.back() == ' ') l.pop_back();
+    out += l + "\n";
+  };
+  line(head);
+  for (const auto& row : rows) line(row);
+  return out;
+}
+
+std::vector<Target> targets(const std::vector<Result>& results) {
+  std::vector<Target> out;
+  // Every linx row is judged, each with its settings.
+  std::map<std::string, const Result*> linx_by_key;
+  for (const Result& r : results) {
+    if (r.is_linx && r.ran) linx_by_key[r.scene + " " + r.size + ", linx " + r.settings] = &r;
+  }
+  for (const auto& [key, lx] : linx_by_key) {
+    if (lx->steps < lx->steps_planned) {
+      out.push_back({false, true, fmt::format("{}: linx did not finish ({})", key, lx->note)});
+      continue;
+    }
+    const Result* fastest = nullptr;   // fastest peer at least as accurate as linx
+    const Result* accurate = nullptr;  // most accurate peer
+    int peers = 0;
+    for (const Result& r : results) {
+      if (r.is_linx || !r.ran || r.scene != lx->scene || r.size != lx->size) continue;
+      if (r.steps < r.steps_planned) continue;  // a partial run is no comparison
+      ++peers;
+      if (asAccurate(r.accuracy, lx->accuracy) && (!fastest || r.median_ms < fastest->median_ms)) {
+        fastest = &r;
+      }
+      if (!accurate || asAccurate(r.accuracy, accurate->accuracy)) {
+        if (!accurate || r.accuracy < accurate->accuracy) accurate = &r;
+      }
+    }
+    if (peers == 0) continue;
+    if (fastest) {
+      const bool met = lx->median_ms <= 0.5 * fastest->median_ms;
+      out.push_back(
+          {met, true,
+           fmt::format("{}: time {:.4g} ms vs half of {:.4g} ms ({} {}), the fastest peer "
+                       "as accurate",
+                       key, lx->median_ms, fastest->median_ms, fastest->engine,
+                       fastest->settings)});
+    } else {
+      out.push_back({true, true,
+                     fmt::format("{}: time {:.4g} ms; no peer is as accurate, so none to halve",
+                                 key, lx->median_ms)});
+    }
+    if (accurate) {
+      const bool met = asAccurate(lx->accuracy, accurate->accuracy);
+      out.push_back({met, true,
+                     fmt::format("{}: accuracy {} vs {} ({} {}), the most accurate peer", key,
+                                 accuracyText(*lx), accuracyText(*accurate), accurate->engine,
+                                 accurate->settings)});
+    }
+  }
+  // Scene-specific targets.
+  for (const auto& [key, lx] : linx_by_key) {
+    if (lx->scene == "chain" || lx->scene == "heavy chain") {
+      out.push_back({lx->accuracy < 1e-4, true,
+                     fmt::format("{}: joint separation {} below 1e-4 m", key, accuracyText(*lx))});
+    }
+    if (lx->scene == "pyramid") {
+      out.push_back(
+          {lx->accuracy < 0.01 && lx->steps == lx->steps_planned, true,
+           fmt::format("{}: every box within 1 cm after 10 s: {}", key, accuracyText(*lx))});
+    }
+  }
+  for (const char* chain : {"chain", "heavy chain"}) {
+    for (const auto& [key, small] : linx_by_key) {
+      if (small->scene != chain || small->size != "N=100") continue;
+      const auto big = linx_by_key.find(std::string(chain) + " N=1000, linx " + small->settings);
+      if (big == linx_by_key.end()) continue;
+      const double ratio = big->second->median_ms / small->median_ms;
+      out.push_back({ratio <= 12.0, true,
+                     fmt::format("{}, linx {}: time(N=1000) / time(N=100) = {:.1f}, at most 12",
+                                 chain, small->settings, ratio)});
+    }
+  }
+  for (const auto& [key, lx] : linx_by_key) {
+    if (lx->scene == "spheres" && lx->size == "N=64000") {
+      const double per_body = lx->heap_peak_mib * 1024.0 * 1024.0 / lx->bodies;
+      out.push_back({per_body <= 1024.0, true,
+                     fmt::format("{}: peak heap {:.1f} MiB, {:.0f} bytes per body (contacts "
+                                 "included), below 1 KiB per body plus the contacts",
+                                 key, lx->heap_peak_mib, per_body)});
+    }
+  }
+  return out;
+}
+
+std::string targetLines(const std::vector<Target>& targets, bool markdown) {
+  std::string out;
+  for (const Target& t : targets) {
+    const char* mark = !t.measured ? "not measured" : t.met ? "met" : "NOT MET";
+    out += markdown ? fmt::format("- **{}**: {}\n", mark, t.text)
+                    : fmt::format("[{}] {}\n", mark, t.text);
+  }
+  return out;
+}
+
+}  // namespace bench

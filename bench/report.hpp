@@ -1,0 +1,26 @@
+// The benchmark's table and its targets (issue 4), as text on stdout and as Markdown.
+#pragma once
+
+#include "runner.hpp"
+
+#include <string>
+#include <vector>
+
+namespace bench {
+
+/// Machine, compiler and date, one line each.
+std::vector<std::string> machineDescription();
+
+/// The table, fixed-width (markdown = false) or as a Markdown table.
+std::string table(const std::vector<Result>& results, bool markdown);
+
+struct Target {
+  bool met = false;
+  bool measured = true;  ///< false: not measured in this run (the line says why)
+  std::string text;
+};
+/// Each of the issue's targets that this run's results can decide.
+std::vector<Target> targets(const std::vector<Result>& results);
+std::string targetLines(const std::vector<Target>& targets, bool markdown);
+
+}  // namespace bench

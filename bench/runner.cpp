@@ -1,0 +1,81 @@
+#include "runner.hpp"
+
+#include "metrics.hpp"
+
+#include <malloc.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <vector>
+
+namespace bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double heapInUse() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd);
+}
+
+double seconds(Clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
+}  // namespace
+
+Result run(const Scene& scene, const Variant& variant, double budget_s) {
+  Result r;
+  r.scene = scene.name;
+  r.size = scene.size;
+  r.engine = variant.engine;
+  r.settings = variant.settings;
+  r.is_linx = variant.engine == "linx";
+  r.reference = variant.reference;
+  r.steps_planned = scene.steps;
+  r.bodies = static_cast<int>(scene.bodies.size());
+  try {
+    const double heap0 = heapInUse();
+    double heap_peak = heap0;
+    const auto t0 = Clock::now();
+    std::unique_ptr<Engine> engine = variant.make(scene);
+    r.build_s = seconds(Clock::now() - t0);
+    heap_peak = std::max(heap_peak, heapInUse());
+
+    Accuracy accuracy(scene);
+    std::vector<double> ms;
+    ms.reserve(static_cast<std::size_t>(scene.steps));
+    double stepping = 0.0;
+    for (int s = 1; s <= scene.steps; ++s) {
+      const auto a = Clock::now();
+      engine->step();
+      const double dt = seconds(Clock::now() - a);
+      ms.push_back(1e3 * dt);
+      stepping += dt;
+      if (accuracy.due(s) || stepping > budget_s) {
+        accuracy.sample(*engine);
+        heap_peak = std::max(heap_peak, heapInUse());
+      }
+      if (stepping > budget_s && s < scene.steps) {
+        r.note = "stopped at the " + std::to_string(static_cast<int>(budget_s)) + " s budget";
+        break;
+      }
+    }
+    r.steps = static_cast<int>(ms.size());
+    std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
+    r.median_ms = ms[ms.size() / 2];
+    r.accuracy = accuracy.value();
+    r.heap_peak_mib = (heap_peak - heap0) / (1024.0 * 1024.0);
+    r.ran = true;
+    engine.reset();
+  } catch (const Unsupported& e) {
+    r.note = e.what();
+  } catch (const std::exception& e) {
+    r.note = std::string("failed: ") + e.what();
+  }
+  return r;
+}
+
+}  // namespace bench

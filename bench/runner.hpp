@@ -1,0 +1,31 @@
+// Runs one engine variant on one scene: builds it, times every step, samples the accuracy figure
+// and the heap between steps.
+#pragma once
+
+#include "engine.hpp"
+#include "scene.hpp"
+
+#include <string>
+
+namespace bench {
+
+struct Result {
+  std::string scene, size, engine, settings;
+  bool is_linx = false;    ///< a row of linx (any settings)
+  bool reference = false;  ///< the linx row the ratios are taken against
+  bool ran = false;        ///< false: the variant refused the scene or failed (see note)
+  std::string note;        ///< why it did not run, or that it stopped at the time budget
+  int steps = 0;           ///< steps actually taken
+  int steps_planned = 0;
+  double median_ms = 0.0;      ///< median wall time of one step (ms)
+  double build_s = 0.0;        ///< wall time to build the scene (s)
+  double accuracy = 0.0;       ///< the scene's metric, worst over the run
+  double heap_peak_mib = 0.0;  ///< largest heap in use during the run, less the heap before it
+  int bodies = 0;
+};
+
+/// Runs `variant` on `scene` for scene.steps steps, or until `budget_s` seconds of stepping have
+/// passed (then Result::note says so).
+Result run(const Scene& scene, const Variant& variant, double budget_s);
+
+}  // namespace bench
