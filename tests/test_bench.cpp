@@ -1,0 +1,120 @@
+// The benchmark's own pieces: its accuracy figures against hand-made poses with known answers,
+// its scenes against their stated sizes, and linx through the benchmark's adapter against closed
+// forms (so the table's linx rows measure the engine the tests measure).
+#include "engine.hpp"
+#include "metrics.hpp"
+#include "runner.hpp"
+#include "scenes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace bench {
+namespace {
+
+// An engine that does not move: poses come from the test.
+class FixedPoses final : public Engine {
+ public:
+  explicit FixedPoses(const Scene& s) {
+    for (const Body& b : s.bodies) poses.push_back({b.position, b.orientation});
+  }
+  void step() override {}
+  Pose pose(int i) const override { return poses[static_cast<std::size_t>(i)]; }
+  std::vector<Pose> poses;
+};
+
+TEST(BenchMetrics, JointSeparationIsTheAnchorGap) {
+  const Scene s = hingeChain(3);
+  FixedPoses e(s);
+  Accuracy a(s);
+  a.sample(e);
+  EXPECT_EQ(a.value(), 0.0);
+  e.poses[2].position += Vec3(0.0, 0.003, 0.004);  // joint 2's anchors part by 5 mm
+  a.sample(e);
+  EXPECT_NEAR(a.value(), 0.005, 1e-15);
+  // Turning link 0 about its hinge (the world anchor at the origin) by 90 degrees moves its far
+  // end, which joint 1 shares with link 1, from (0.1, 0, 0) to (0, 0, -0.1).
+  Accuracy b(s);
+  FixedPoses f(s);
+  f.poses[0].orientation = Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY()));
+  f.poses[0].position = Vec3(0.0, 0.0, -0.05);
+  b.sample(f);
+  EXPECT_NEAR(b.value(), std::sqrt(2.0) * 0.1, 1e-12);
+}
+
+TEST(BenchMetrics, PenetrationOfSpheresWallsAndDisplacement) {
+  Scene s = pouredSpheres(8);
+  FixedPoses e(s);
+  Accuracy a(s);
+  a.sample(e);
+  EXPECT_EQ(a.value(), 0.0) << "the lattice starts apart and above the floor";
+  // Lift the lattice out of the way, then put sphere 0 (body 5, after the five walls) 3 mm into
+  // the floor, and sphere 1 2 mm into sphere 0.
+  for (std::size_t i = 5; i < e.poses.size(); ++i) e.poses[i].position.z() += 1.0;
+  const double r = s.bodies[5].shape.radius;
+  e.poses[5].position = Vec3(0.0, 0.0, r - 0.003);
+  e.poses[6].position = e.poses[5].position + Vec3(2.0 * r - 0.002, 0.0, 0.0);
+  a.sample(e);
+  EXPECT_NEAR(a.value(), 0.003, 1e-12);
+
+  Scene p = pyramid(3);
+  FixedPoses q(p);
+  Accuracy d(p);
+  q.poses[4].position += Vec3(0.0, 0.0, -0.02);
+  d.sample(q);
+  EXPECT_NEAR(d.value(), 0.02, 1e-15);
+}
+
+TEST(BenchMetrics, PistonErrorIsZeroOnTheClosedForm) {
+  const Scene s = sliderCrank();
+  FixedPoses e(s);
+  Accuracy a(s);
+  const double r = 0.1, l = 0.3, phi = 0.7;
+  e.poses[0].orientation = Quat(Eigen::AngleAxisd(phi, Vec3::UnitZ()));
+  e.poses[0].position = e.poses[0].orientation * Vec3(0.05, 0.0, 0.0);
+  e.poses[2].position =
+      Vec3(r * std::cos(phi) + std::sqrt(l * l - std::pow(r * std::sin(phi), 2)), 0, 0);
+  a.sample(e);
+  EXPECT_NEAR(a.value(), 0.0, 1e-15);
+  e.poses[2].position.x() += 0.001;
+  a.sample(e);
+  EXPECT_NEAR(a.value(), 0.001, 1e-12);
+}
+
+TEST(BenchScenes, SizesAreAsStated) {
+  EXPECT_EQ(pyramid(100).bodies.size(), 5050u);
+  EXPECT_EQ(pouredSpheres(1000).bodies.size(), 1005u);  // five static walls
+  EXPECT_EQ(ragdolls(100).bodies.size(), 1100u);
+  EXPECT_EQ(ragdolls(100).joints.size(), 1000u);
+  EXPECT_EQ(hingeChain(1000).joints.size(), 1000u);
+  EXPECT_EQ(hingeChain(10, 1000.0).bodies.back().mass, 1000.0);
+}
+
+// linx through the adapter: the slider-crank's piston against its closed form, and a pyramid
+// that stands.
+TEST(BenchLinx, SliderCrankPistonFollowsTheClosedForm) {
+  Scene s = sliderCrank();
+  s.steps = 500;
+  const std::vector<Variant> variants = linxVariants(s);
+  ASSERT_FALSE(variants.empty());
+  for (const Variant& v : variants) {
+    const Result r = run(s, v, 60.0);
+    ASSERT_TRUE(r.ran) << r.note;
+    EXPECT_EQ(r.steps, 500);
+    std::printf("%s: piston error %.2e m\n", v.settings.c_str(), r.accuracy);
+    EXPECT_LT(r.accuracy, 1e-4) << v.settings;
+  }
+}
+
+TEST(BenchLinx, SmallPyramidStandsForOneSecond) {
+  Scene s = pyramid(4);
+  s.steps = 60;
+  const Result r = run(s, linxVariants(s).front(), 60.0);
+  ASSERT_TRUE(r.ran) << r.note;
+  std::printf("pyramid of 10 boxes after 1 s: largest displacement %.2e m\n", r.accuracy);
+  EXPECT_LT(r.accuracy, 0.01);
+}
+
+}  // namespace
+}  // namespace bench
