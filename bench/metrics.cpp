@@ -65,7 +65,15 @@ std::string Accuracy::describe(Metric metric) {
 }
 
 void Accuracy::sample(const Engine& engine) {
-  for (std::size_t i = 0; i < poses_.size(); ++i) poses_[i] = engine.pose(static_cast<int>(i));
+  bool finite = true;
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
+    poses_[i] = engine.pose(static_cast<int>(i));
+    finite = finite && poses_[i].position.allFinite() && poses_[i].orientation.coeffs().allFinite();
+  }
+  if (!finite) {  // a blown-up engine: std::max would drop a NaN, so say it here
+    worst_ = NAN;
+    return;
+  }
   double v = 0.0;
   switch (scene_.metric) {
     case Metric::JointSeparation:

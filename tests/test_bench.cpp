@@ -43,6 +43,18 @@ TEST(BenchMetrics, JointSeparationIsTheAnchorGap) {
   EXPECT_NEAR(b.value(), std::sqrt(2.0) * 0.1, 1e-12);
 }
 
+TEST(BenchMetrics, ABlownUpEngineReadsNaNForEver) {
+  const Scene s = hingeChain(3);
+  FixedPoses e(s);
+  Accuracy a(s);
+  e.poses[1].position.x() = NAN;
+  a.sample(e);
+  EXPECT_TRUE(std::isnan(a.value()));
+  e.poses[1].position.x() = 0.15;  // back to where it was: the run still blew up
+  a.sample(e);
+  EXPECT_TRUE(std::isnan(a.value()));
+}
+
 TEST(BenchMetrics, PenetrationOfSpheresWallsAndDisplacement) {
   Scene s = pouredSpheres(8);
   FixedPoses e(s);

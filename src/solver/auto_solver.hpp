@@ -2,8 +2,8 @@
 // friction is involved. The exact solver solves joints to round-off, but friction bounds that
 // follow the normal impulses make its active set cycle on redundant contact points (a box on four
 // corners), and each of its iterations is a sparse factorization; PGS is robust and cheap there.
-// The choice is made on the rows alone (any friction row with mu > 0 -> PGS), so it is the same for any
-// ordering of the problem; World solves each island separately, so a pendulum next to a pile of
+// The choice is made on the rows alone (any friction row with mu > 0 -> PGS), so it is the same for
+// any ordering of the problem; World solves each island separately, so a pendulum next to a pile of
 // boxes is still solved exactly.
 #pragma once
 

@@ -87,7 +87,9 @@ int ExactSolver::solveFreeTree(const Problem& p) {
   double scale = 0.0;
   for (std::size_t k = 0; k < n; ++k) scale = std::max(scale, std::abs(rhs_[k]));
   std::vector<double>& r = w_;
-  double res = residual(x_, r);
+  // Without redundant rows the tree factorization is exact up to round-off (no fill-in is dropped
+  // and the shift is 1e-13 of each pivot): refinement would only confirm it.
+  double res = redundant > 0 ? residual(x_, r) : 0.0;
   for (int refine = 0; refine < 3 && res > 1e-15 * (1.0 + scale); ++refine) {
     tree_factor_.solve(r);
     std::vector<double>& candidate = candidate_;
@@ -103,8 +105,68 @@ int ExactSolver::solveFreeTree(const Problem& p) {
   return redundant;
 }
 
+int ExactSolver::solveFreeDense(const Problem& p) {
+  const int n = int(p.rows.size());
+  free_index_.clear();
+  for (int k = 0; k < n; ++k)
+    if (state_[std::size_t(k)] == State::Free) free_index_.push_back(k);
+  const int nf = int(free_index_.size());
+  if (nf == 0) return 0;
+  // A_FF x = -(b_F + A_FC lambda_C), with a shift of 1e-13 of the largest diagonal (as the sparse
+  // path), an LDL^T without pivoting and refinement against the unshifted matrix.
+  Eigen::VectorXd rhs(nf);
+  double max_diag = 0.0;
+  dense_ff_.resize(nf, nf);
+  for (int i = 0; i < nf; ++i) {
+    const int k = free_index_[std::size_t(i)];
+    double r = -b_[k];
+    for (int l = 0; l < n; ++l)
+      if (state_[std::size_t(l)] != State::Free) r -= dense_a_(k, l) * p.lambda[std::size_t(l)];
+    rhs[i] = r;
+    for (int j = 0; j < nf; ++j) dense_ff_(i, j) = dense_a_(k, free_index_[std::size_t(j)]);
+    max_diag = std::max(max_diag, dense_ff_(i, i));
+  }
+  const double shift = 1e-13 * std::max(max_diag, 1e-300);
+  Eigen::MatrixXd& f = dense_factor_;
+  f = dense_ff_;
+  int redundant = 0;
+  for (int j = 0; j < nf; ++j) {
+    double d = f(j, j) + shift;
+    for (int k = 0; k < j; ++k) d -= f(j, k) * f(j, k) * f(k, k);
+    const double cfm = p.rows[std::size_t(free_index_[std::size_t(j)])].cfm;
+    if (d <= 1e-8 * (dense_ff_(j, j) - cfm) + 10.0 * (cfm + shift)) ++redundant;
+    f(j, j) = d;
+    for (int i = j + 1; i < nf; ++i) {
+      double v = f(i, j);
+      for (int k = 0; k < j; ++k) v -= f(i, k) * f(j, k) * f(k, k);
+      f(i, j) = v / d;
+    }
+  }
+  const auto solveWith = [&](Eigen::VectorXd x) {
+    for (int j = 0; j < nf; ++j)
+      for (int k = 0; k < j; ++k) x[j] -= f(j, k) * x[k];
+    for (int j = 0; j < nf; ++j) x[j] /= f(j, j);
+    for (int j = nf - 1; j >= 0; --j)
+      for (int i = j + 1; i < nf; ++i) x[j] -= f(i, j) * x[i];
+    return x;
+  };
+  Eigen::VectorXd x = solveWith(rhs);
+  double res = (rhs - dense_ff_ * x).lpNorm<Eigen::Infinity>();
+  for (int refine = 0; refine < 3 && res > 1e-15 * (1.0 + rhs.lpNorm<Eigen::Infinity>());
+       ++refine) {
+    const Eigen::VectorXd next = x + solveWith(rhs - dense_ff_ * x);
+    const double next_res = (rhs - dense_ff_ * next).lpNorm<Eigen::Infinity>();
+    if (!(next_res < 0.5 * res)) break;
+    x = next;
+    res = next_res;
+  }
+  for (int i = 0; i < nf; ++i) p.lambda[std::size_t(free_index_[std::size_t(i)])] = x[i];
+  return redundant;
+}
+
 int ExactSolver::solveFree(const Problem& p) {
   if (tree_) return solveFreeTree(p);
+  if (dense_) return solveFreeDense(p);
   const int n = int(p.rows.size());
   free_index_.assign(std::size_t(n), -1);
   int nf = 0;
@@ -181,11 +243,27 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
   if (n == 0) return report;
   sys_.build(p);
   tree_ = tree_factor_.analyse(p);
-  if (tree_) {
+  dense_ = !tree_ && n <= kDenseRows;
+  if (tree_ || dense_) {
     b_.resize(int(n));
     for (std::size_t k = 0; k < n; ++k)
       b_[int(k)] = RowSystem::rate(p.rows[k], p.bodies) - sys_.target[k];
-  } else {
+  }
+  if (dense_) {  // A = J M^-1 J^T + diag(cfm), entry by entry over the bodies two rows share
+    dense_a_.resize(int(n), int(n));
+    for (std::size_t k = 0; k < n; ++k) {
+      const Row& rk = p.rows[k];
+      for (std::size_t l = k; l < n; ++l) {
+        const Row& rl = p.rows[l];
+        double v = k == l ? rk.cfm : 0.0;
+        if (rk.body_a >= 0 && rk.body_a == rl.body_a) v += rk.Ja.dot(sys_.Wa[l]);
+        if (rk.body_a >= 0 && rk.body_a == rl.body_b) v += rk.Ja.dot(sys_.Wb[l]);
+        if (rk.body_b >= 0 && rk.body_b == rl.body_a) v += rk.Jb.dot(sys_.Wa[l]);
+        if (rk.body_b >= 0 && rk.body_b == rl.body_b) v += rk.Jb.dot(sys_.Wb[l]);
+        dense_a_(int(k), int(l)) = dense_a_(int(l), int(k)) = v;
+      }
+    }
+  } else if (!tree_) {
     buildMatrix(p);
   }
   guess_.assign(p.lambda.begin(), p.lambda.end());  // the warm start, for the fallback below
@@ -199,6 +277,13 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
       state_[k] = State::Lower;
     else if (std::isfinite(hi) && p.lambda[k] >= hi)
       state_[k] = State::Upper;
+  }
+
+  bool all_bilateral = true;  // every row free with infinite bounds: one solve settles it
+  for (std::size_t k = 0; k < n && all_bilateral; ++k) {
+    const Row& r = p.rows[k];
+    all_bilateral = r.kind != RowKind::Friction && std::isinf(r.lo) && std::isinf(r.hi) &&
+                    state_[k] == State::Free;
   }
 
   std::size_t best_infeasible = n + 1;
@@ -215,11 +300,18 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
     }
     report.redundant_rows = solveFree(p);
     report.iterations = it + 1;
+    if (all_bilateral) {  // nothing can leave its bounds: the free solve is the solution
+      report.converged = true;
+      break;
+    }
 
     if (tree_) {
       y_.resize(n);
       multiply(p, p.lambda, y_);
       for (std::size_t k = 0; k < n; ++k) w[int(k)] = y_[k] + b_[int(k)];
+    } else if (dense_) {
+      const Eigen::Map<const Eigen::VectorXd> lam(p.lambda.data(), int(n));
+      w = dense_a_ * lam + b_;
     } else {
       const Eigen::Map<const Eigen::VectorXd> lam(p.lambda.data(), int(n));
       w = a_ * lam + b_;

@@ -5,6 +5,7 @@
 #include "solver/row_system.hpp"
 #include "solver/tree_factorization.hpp"
 
+#include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -12,8 +13,8 @@ namespace linx::solver {
 
 /// Exact solver for mechanisms. Rows with free impulses are solved together, to round-off; rows at
 /// a bound hold their bound. Mechanisms without loops (chains, trees) are factored in O(n) along
-/// their tree (TreeFactorization); closed loops by a sparse LDL^T of A_FF with a fill-reducing
-/// ordering. An active-set outer loop
+/// their tree (TreeFactorization); closed loops by an LDL^T of A_FF, dense up to kDenseRows rows,
+/// sparse with a fill-reducing ordering above. An active-set outer loop
 /// (block principal pivoting, falling back to single pivots when the number of infeasible rows
 /// stops falling) moves rows between free and bound until every row is complementary.
 /// Redundant rows (A singular, an over-constrained mechanism) are survived through a tiny
@@ -32,6 +33,9 @@ class ExactSolver final : public ConstraintSolver {
   /// Solves the free rows for the current states; returns the number of redundant pivots.
   int solveFree(const Problem& p);
   int solveFreeTree(const Problem& p);
+  int solveFreeDense(const Problem& p);
+  /// Loops of at most this many rows are factored dense: cheaper than a sparse analysis.
+  static constexpr std::size_t kDenseRows = 64;
 
   RowSystem sys_;
   SpMat a_;            // A = J M^-1 J^T + diag(cfm), full symmetric
@@ -41,6 +45,8 @@ class ExactSolver final : public ConstraintSolver {
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt_;
   std::vector<double> guess_;  // the initial impulses of the current solve
   bool tree_ = false;          // this solve goes through tree_factor_
+  bool dense_ = false;         // this solve factors A dense (a small loop)
+  Eigen::MatrixXd dense_a_, dense_ff_, dense_factor_;
   TreeFactorization tree_factor_;
   std::vector<std::uint8_t> free_;
   std::vector<double> x_, y_, rhs_, w_, candidate_;

@@ -1,0 +1,649 @@
+// MuJoCo 2.2.2 (Debian libmujoco-dev) adapter: one variant, MuJoCo's defaults (Newton solver, its
+// default iterations and tolerance, pyramidal friction cone, soft constraints with the default
+// solref/solimp, semi-implicit Euler).
+//
+// MuJoCo works in reduced (joint) coordinates, so the scene becomes a kinematic tree, written as an
+// MJCF string and compiled by mj_loadXML from a virtual file system:
+// - a breadth-first search from the world over the scene's joints makes the tree: a body's parent
+//   is the body it was first reached from (a joint to the world or to a static body makes it a
+//   child of the world); a dynamic body reached by no joint is the root of a tree of its own, with
+//   a freejoint. A joint that meets an already placed body closes a loop and becomes an equality
+//   constraint instead: a hinge becomes a `connect` (ball-and-socket) at its anchor, plus a second
+//   `connect` 0.1 m along its axis unless the tree already keeps the two bodies' relative rotation
+//   about that axis (every joint between them a parallel hinge or a slider, as in the planar
+//   slider-crank); a ball becomes a `connect`. Loops closed by sliders or fixed joints, and limits
+//   or motors on loop-closing joints, are refused (no scene has them).
+// - every MuJoCo body frame is the scene body's principal frame (origin at the centre of mass),
+//   with an explicit <inertial pos="0 0 0" diaginertia=...> (never computed from the geometry), so
+//   pose() is xpos/xquat; a joint sits at the scene's anchor, expressed in the child's frame. When
+//   the tree edge runs from body2 to body1 the joint axis is negated, so that MuJoCo's joint
+//   coordinate is the scene's (body2 relative to body1).
+// - hinge and slider limits become range + limited="true"; a motor becomes a velocity actuator
+//   (force kv (target - qdot), clamped to +-max_force, ctrl = target). MuJoCo has no constraint
+//   motor; kv is the dof's effective inertia at the start divided by h (kv = 1 / (h (M^-1)_ii)),
+//   the gain that reaches the target in one step when the force is not clamped, like the constraint
+//   motors of the other engines. Semi-implicit Euler applies it explicitly; the gain is stable as
+//   long as the effective inertia stays above half of its starting value.
+// - MJCF nests child bodies inside their parents and Debian's tinyxml2 refuses XML nested deeper
+//   than 100 elements, so every 40 levels of bodies the subtree moves into a separate file of the
+//   virtual file system, spliced in with <include> (MuJoCo merges included documents after
+//   tinyxml2 has parsed each one, so the depth limit applies per file); a 1000-link chain is 25
+//   files.
+// - shapes are geoms centred in their body (MuJoCo's capsule lies along its local z, like the
+//   scene's); static bodies are jointless bodies under the world (welded to it: MuJoCo never
+//   collides them with each other or with the ground); the ground is a plane geom in the world.
+//   Every geom has condim 3 (normal plus two-dimensional Coulomb friction, no torsional or rolling
+//   friction) and friction "mu 0 0". MuJoCo already skips contacts between a body and its tree
+//   parent; pairs joined by a loop-closing joint, or by a joint to a static body, get <exclude>.
+// - MuJoCo 2.2.2 preallocates its constraint arrays in one mjData buffer whose size is an int:
+//   dense njmax x nv Jacobians and a dense njmax x njmax matrix (efc_AR), zeroed (so resident) at
+//   creation. Its defaults (njmax 500, nconmax 100) are far too small for the scenes, so the
+//   adapter sizes nconmax from the shapes (a per-shape budget of contacts, below) and njmax from it
+//   (4 rows per pyramidal condim-3 contact, 3 per connect, 1 per limit), and refuses a scene whose
+//   buffer would pass 2 GiB, which MuJoCo cannot allocate. A run that outgrows the budget fails
+//   (MuJoCo would silently drop contacts). The stack keeps MuJoCo's default size, capped where
+//   MuJoCo's int arithmetic would overflow.
+// - MuJoCo resets a simulation whose accelerations become non-finite or huge and goes on; the
+//   adapter then reports NaN poses, so the accuracy figure shows the blow-up. MuJoCo's default
+//   error handler waits for Enter and exits; the adapter's turns errors into exceptions.
+// - step() is mj_step2 followed by mj_step1 (the construction calls mj_step1 once): together
+// exactly
+//   mj_step for the Euler integrator, but it leaves xpos/xquat at the new positions for pose()
+//   (after mj_step they would still describe the start of the step).
+#include "engine.hpp"
+
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bench {
+namespace {
+
+constexpr int kWorld = -1;
+// Levels of nested bodies per MJCF file (tinyxml2 in Debian stops at element depth 100).
+constexpr int kLevelsPerFile = 40;
+// Distance along a loop-closing hinge's axis of its second connect point (m).
+constexpr double kSecondConnectOffset = 0.1;
+// Contacts budgeted per dynamic body with a shape (a contact between two bodies, or with a static
+// body or the ground, is counted once, at the dynamic body): a box resting on two others or on the
+// ground has 2 x 4 points (measured: 8 per box in the base-10 pyramid, 8.5 at most in the base-20
+// one), a sphere in a settled pile about 2.6 (320 contacts for 125 poured spheres, 555 for 216), a
+// capsule of a ragdoll on the ground 2 at most (63 contacts for 10 ragdolls, 547 for 100).
+// Exceeding the budget fails the run.
+constexpr int kContactsPerBox = 10;
+constexpr int kContactsPerSphere = 4;
+constexpr int kContactsPerCapsule = 2;
+constexpr int kRowsPerContact = 4;  // pyramidal cone, condim 3: 2 (condim - 1) rows
+// MuJoCo's mjData buffer size is an int (bytes).
+constexpr double kMaxBufferBytes = 2147483647.0;
+
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+std::string vec(const Vec3& v) {
+  return num(v.x()) + " " + num(v.y()) + " " + num(v.z());
+}
+std::string quat(const Quat& q) {  // MuJoCo order: w x y z
+  return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
+}
+std::string bodyName(int i) {
+  std::string name = std::to_string(i);  // "b" + to_string trips GCC 12's -Wrestrict at -O3
+  name.insert(name.begin(), 'b');
+  return name;
+}
+
+bool parallel(const Vec3& a, const Vec3& b) {
+  return a.cross(b).norm() <= 1e-9 * a.norm() * b.norm();
+}
+
+/// The scene as a kinematic tree. Node indices are scene body indices; kWorld is the world.
+struct Tree {
+  std::vector<int> parent;      ///< kWorld for roots (and static bodies)
+  std::vector<int> joint;       ///< scene joint of the edge to the parent; -1: none
+  std::vector<bool> flipped;    ///< the edge runs from body2 (parent) to body1 (child)
+  std::vector<bool> free_root;  ///< dynamic root without a joint: gets a freejoint
+  std::vector<std::vector<int>> children;
+  std::vector<int> roots;     ///< children of the world, in order
+  std::vector<int> closures;  ///< scene joints that close loops
+};
+
+/// A joint end as a tree node: the world and static bodies are the world.
+int node(const Scene& scene, int b) {
+  return b < 0 || scene.bodies[static_cast<std::size_t>(b)].is_static ? kWorld : b;
+}
+
+Tree buildTree(const Scene& scene) {
+  const int n = static_cast<int>(scene.bodies.size());
+  Tree t;
+  t.parent.assign(static_cast<std::size_t>(n), kWorld);
+  t.joint.assign(static_cast<std::size_t>(n), -1);
+  t.flipped.assign(static_cast<std::size_t>(n), false);
+  t.free_root.assign(static_cast<std::size_t>(n), false);
+  t.children.resize(static_cast<std::size_t>(n));
+
+  // Incidence lists (world at index n), in joint order.
+  std::vector<std::vector<int>> incident(static_cast<std::size_t>(n) + 1);
+  const auto slot = [n](int v) { return static_cast<std::size_t>(v == kWorld ? n : v); };
+  for (std::size_t j = 0; j < scene.joints.size(); ++j) {
+    const Joint& jt = scene.joints[j];
+    const int a = node(scene, jt.body1), b = node(scene, jt.body2);
+    if (a == b) {
+      if (a == kWorld) continue;  // between the world and static bodies: no effect
+      throw Unsupported("a joint joins body " + std::to_string(a) + " to itself");
+    }
+    incident[slot(a)].push_back(static_cast<int>(j));
+    incident[slot(b)].push_back(static_cast<int>(j));
+  }
+
+  std::vector<bool> placed(static_cast<std::size_t>(n) + 1, false),
+      used(scene.joints.size(), false);
+  std::vector<int> queue;
+  const auto search = [&](int start) {
+    queue.assign(1, start);
+    placed[slot(start)] = true;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const int u = queue[q];
+      for (int j : incident[slot(u)]) {
+        if (used[static_cast<std::size_t>(j)]) continue;
+        used[static_cast<std::size_t>(j)] = true;
+        const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
+        const int a = node(scene, jt.body1), b = node(scene, jt.body2);
+        const int v = a == u ? b : a;
+        if (placed[slot(v)]) {
+          t.closures.push_back(j);
+          continue;
+        }
+        placed[slot(v)] = true;
+        const auto vi = static_cast<std::size_t>(v);
+        t.parent[vi] = u;
+        t.joint[vi] = j;
+        t.flipped[vi] = v == a;  // the child is body1
+        if (u == kWorld) {
+          t.roots.push_back(v);
+        } else {
+          t.children[static_cast<std::size_t>(u)].push_back(v);
+        }
+        queue.push_back(v);
+      }
+    }
+  };
+  search(kWorld);
+  for (int i = 0; i < n; ++i) {
+    const Body& b = scene.bodies[static_cast<std::size_t>(i)];
+    if (b.is_static) {
+      t.roots.push_back(i);  // jointless child of the world
+      continue;
+    }
+    if (placed[slot(i)]) continue;
+    t.free_root[static_cast<std::size_t>(i)] = true;
+    t.roots.push_back(i);
+    search(i);
+  }
+  std::sort(t.closures.begin(), t.closures.end());
+  return t;
+}
+
+/// Whether the tree path between the two nodes keeps their relative rotation about `axis` only:
+/// every joint on it is a hinge parallel to axis, a slider or a fixed joint.
+bool rotationKeptAbout(const Scene& scene, const Tree& t, int a, int b, const Vec3& axis) {
+  std::vector<int> up_a;
+  for (int v = a; v != kWorld; v = t.parent[static_cast<std::size_t>(v)]) up_a.push_back(v);
+  int lca = kWorld;
+  std::vector<int> path;
+  for (int v = b; v != kWorld; v = t.parent[static_cast<std::size_t>(v)]) {
+    if (std::find(up_a.begin(), up_a.end(), v) != up_a.end()) {
+      lca = v;
+      break;
+    }
+    path.push_back(v);
+  }
+  for (int v : up_a) {
+    if (v == lca) break;
+    path.push_back(v);
+  }
+  for (int v : path) {
+    const auto vi = static_cast<std::size_t>(v);
+    if (t.free_root[vi]) return false;
+    const Joint& jt = scene.joints[static_cast<std::size_t>(t.joint[vi])];
+    switch (jt.kind) {
+      case Joint::Kind::Hinge:
+        if (!parallel(jt.axis, axis)) return false;
+        break;
+      case Joint::Kind::Slider:
+      case Joint::Kind::Fixed:
+        break;
+      case Joint::Kind::Ball:
+        return false;
+    }
+  }
+  return true;
+}
+
+/// MJCF text, split into files for the virtual file system.
+struct Mjcf {
+  std::vector<std::pair<std::string, std::string>> files;  ///< name, content; files[0] is the model
+};
+
+class Writer {
+ public:
+  Writer(const Scene& scene, const Tree& tree, Mjcf& out) : scene_(scene), tree_(tree), out_(out) {}
+
+  /// Writes body v (and its subtree) into `xml`, whose bodies are nested `level` deep.
+  void body(int v, int level, std::string& xml) {
+    if (level >= kLevelsPerFile) {
+      const std::string name = std::to_string(out_.files.size()).insert(0, "subtree") + ".xml";
+      out_.files.emplace_back(name, std::string());
+      const std::size_t index = out_.files.size() - 1;
+      std::string sub = "<mujoco>";
+      body(v, 0, sub);
+      sub += "</mujoco>";
+      out_.files[index].second = std::move(sub);
+      xml += "<include file='" + name + "'/>";
+      return;
+    }
+    const auto vi = static_cast<std::size_t>(v);
+    const Body& b = scene_.bodies[vi];
+    const int p = tree_.parent[vi];
+    Vec3 pos = b.position;
+    Quat q = b.orientation.normalized();
+    if (p != kWorld) {
+      const Body& pb = scene_.bodies[static_cast<std::size_t>(p)];
+      const Quat pq = pb.orientation.normalized();
+      pos = pq.conjugate() * (b.position - pb.position);
+      q = pq.conjugate() * q;
+    }
+    xml += "<body name='" + bodyName(v) + "' pos='" + vec(pos) + "' quat='" + quat(q) + "'>";
+    if (!b.is_static) {
+      xml +=
+          "<inertial pos='0 0 0' mass='" + num(b.mass) + "' diaginertia='" + vec(b.inertia) + "'/>";
+    }
+    if (tree_.free_root[vi]) {
+      xml += "<freejoint name='free" + std::to_string(v) + "'/>";
+    } else if (tree_.joint[vi] >= 0) {
+      joint(v, xml);
+    }
+    geom(b.shape, xml);
+    for (int c : tree_.children[vi]) body(c, level + 1, xml);
+    xml += "</body>";
+  }
+
+ private:
+  void joint(int v, std::string& xml) const {
+    const auto vi = static_cast<std::size_t>(v);
+    const int j = tree_.joint[vi];
+    const Joint& jt = scene_.joints[static_cast<std::size_t>(j)];
+    if (jt.kind == Joint::Kind::Fixed) return;  // a jointless child is welded to its parent
+    const Body& b = scene_.bodies[vi];
+    const Quat bq = b.orientation.normalized();
+    const Vec3 anchor = bq.conjugate() * (jt.anchor - b.position);
+    const Vec3 axis = bq.conjugate() * (tree_.flipped[vi] ? -jt.axis : jt.axis).normalized();
+    const char* type = jt.kind == Joint::Kind::Hinge    ? "hinge"
+                       : jt.kind == Joint::Kind::Slider ? "slide"
+                                                        : "ball";
+    xml += "<joint name='j" + std::to_string(j) + "' type='" + type + "' pos='" + vec(anchor) + "'";
+    if (jt.kind != Joint::Kind::Ball) xml += " axis='" + vec(axis) + "'";
+    if (jt.limits) {
+      xml += " limited='true' range='" + num(jt.limits->lower) + " " + num(jt.limits->upper) + "'";
+    }
+    xml += "/>";
+  }
+
+  static void geom(const Shape& s, std::string& xml) {
+    switch (s.kind) {
+      case Shape::Kind::None:
+        return;
+      case Shape::Kind::Sphere:
+        xml += "<geom type='sphere' size='" + num(s.radius) + "'/>";
+        return;
+      case Shape::Kind::Box:
+        xml += "<geom type='box' size='" + vec(s.half_extents) + "'/>";
+        return;
+      case Shape::Kind::Capsule:
+        xml += "<geom type='capsule' size='" + num(s.radius) + " " + num(s.half_length) + "'/>";
+        return;
+    }
+  }
+
+  const Scene& scene_;
+  const Tree& tree_;
+  Mjcf& out_;
+};
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+struct VfsDeleter {
+  void operator()(mjVFS* v) const {
+    mj_deleteVFS(v);
+    std::free(v);
+  }
+};
+
+class MujocoEngine final : public Engine {
+ public:
+  explicit MujocoEngine(const Scene& scene);
+  void step() override {
+    mjData* d = data_.get();
+    const double t = d->time + model_->opt.timestep;
+    mj_step2(model_.get(), d);
+    mj_step1(model_.get(), d);
+    // MuJoCo does not stop on these. A diverged simulation (non-finite or huge accelerations) is
+    // reset to the initial state and goes on: from then on pose() reports NaN, which the accuracy
+    // figure shows as a blown-up engine (MuJoCo's warning, on stderr, gives the time). Contacts or
+    // constraint rows beyond the preallocated arrays are dropped, which would be another
+    // simulation: the run fails instead.
+    if (d->warning[mjWARN_BADQACC].number + d->warning[mjWARN_BADQVEL].number +
+            d->warning[mjWARN_BADQPOS].number >
+        0) {
+      diverged_ = true;
+    }
+    if (d->warning[mjWARN_CONTACTFULL].number + d->warning[mjWARN_CNSTRFULL].number > 0) {
+      throw std::runtime_error("MuJoCo ran out of its preallocated contacts (nconmax " +
+                               std::to_string(model_->nconmax) + ") or constraint rows (njmax " +
+                               std::to_string(model_->njmax) + ") at t = " + std::to_string(t) +
+                               " s");
+    }
+  }
+  Pose pose(int i) const override {
+    if (diverged_) {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      return Pose{Vec3::Constant(nan), Quat(nan, nan, nan, nan)};
+    }
+    const int id = body_id_[static_cast<std::size_t>(i)];
+    const mjtNum* p = data_->xpos + 3 * id;
+    const mjtNum* q = data_->xquat + 4 * id;
+    return Pose{Vec3(p[0], p[1], p[2]), Quat(q[0], q[1], q[2], q[3])};
+  }
+
+ private:
+  std::unique_ptr<mjModel, ModelDeleter> model_;
+  std::unique_ptr<mjData, DataDeleter> data_;
+  std::vector<int> body_id_;
+  bool diverged_ = false;
+};
+
+/// MuJoCo's default warning handler prints to stdout and appends to MUJOCO_LOG.TXT in the current
+/// directory; step() turns the warnings that matter into exceptions, so they go to stderr only.
+void warningToStderr(const char* message) {
+  std::fprintf(stderr, "MuJoCo warning: %s\n", message);
+}
+/// MuJoCo's default error handler prints, waits for Enter on stdin and exits; an exception (it
+/// crosses MuJoCo's C frames, which have unwind tables on x86-64, as in MuJoCo's own Python
+/// bindings) lets the runner report the failure instead.
+[[noreturn]] void errorToException(const char* message) {
+  throw std::runtime_error(std::string("MuJoCo error: ") + message);
+}
+
+MujocoEngine::MujocoEngine(const Scene& scene) {
+  mju_user_warning = warningToStderr;
+  mju_user_error = errorToException;
+  const Tree tree = buildTree(scene);
+
+  // Loop closures, exclusions, actuators, and the sizes of the constraint arrays.
+  std::string equality, exclude, actuator;
+  int eq_rows = 0, limit_rows = 0, ncon = 0, nv = 0;
+  for (int j : tree.closures) {
+    const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
+    if (jt.limits || jt.motor) {
+      throw Unsupported("a limit or motor on a joint closing a loop (MuJoCo: equality constraint)");
+    }
+    if (jt.kind == Joint::Kind::Slider || jt.kind == Joint::Kind::Fixed) {
+      throw Unsupported("a slider or fixed joint closing a loop is not mapped to MuJoCo");
+    }
+    // body1 of the connect must be a body; body2 may be the world (omitted).
+    int b1 = jt.body1, b2 = jt.body2;
+    if (b1 < 0) std::swap(b1, b2);
+    const Body& body1 = scene.bodies[static_cast<std::size_t>(b1)];
+    const Quat q1 = body1.orientation.normalized();
+    const auto connect = [&](const Vec3& world_point) {
+      equality += "<connect body1='" + bodyName(b1) + "'";
+      if (b2 >= 0) equality += " body2='" + bodyName(b2) + "'";
+      equality += " anchor='" + vec(q1.conjugate() * (world_point - body1.position)) + "'/>";
+      eq_rows += 3;
+    };
+    connect(jt.anchor);
+    if (jt.kind == Joint::Kind::Hinge &&
+        !rotationKeptAbout(scene, tree, node(scene, jt.body1), node(scene, jt.body2), jt.axis)) {
+      connect(jt.anchor + kSecondConnectOffset * jt.axis.normalized());
+    }
+  }
+  for (std::size_t j = 0; j < scene.joints.size(); ++j) {
+    const Joint& jt = scene.joints[j];
+    const bool closure =
+        std::binary_search(tree.closures.begin(), tree.closures.end(), static_cast<int>(j));
+    const bool to_static =
+        (jt.body1 >= 0 && scene.bodies[static_cast<std::size_t>(jt.body1)].is_static) ||
+        (jt.body2 >= 0 && scene.bodies[static_cast<std::size_t>(jt.body2)].is_static);
+    if ((closure || to_static) && jt.body1 >= 0 && jt.body2 >= 0) {
+      exclude += "<exclude body1='" + bodyName(jt.body1) + "' body2='" + bodyName(jt.body2) + "'/>";
+    }
+    if (closure) continue;
+    if (jt.limits) {
+      if (jt.kind == Joint::Kind::Ball || jt.kind == Joint::Kind::Fixed) {
+        throw Unsupported("limits on a ball or fixed joint are not mapped to MuJoCo");
+      }
+      limit_rows += 1;
+    }
+    if (jt.motor) {
+      if (jt.kind != Joint::Kind::Hinge && jt.kind != Joint::Kind::Slider) {
+        throw Unsupported("a motor on a ball or fixed joint is not mapped to MuJoCo");
+      }
+      if (node(scene, jt.body1) == node(scene, jt.body2)) continue;  // joins nothing
+      actuator += "<velocity name='m" + std::to_string(j) + "' joint='j" + std::to_string(j) +
+                  "' kv='1' ctrllimited='false' forcelimited='true' forcerange='" +
+                  num(-jt.motor->max_force) + " " + num(jt.motor->max_force) + "'/>";
+    }
+  }
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& b = scene.bodies[i];
+    if (tree.free_root[i]) nv += 6;
+    if (!b.is_static && tree.joint[i] >= 0) {
+      switch (scene.joints[static_cast<std::size_t>(tree.joint[i])].kind) {
+        case Joint::Kind::Hinge:
+        case Joint::Kind::Slider:
+          nv += 1;
+          break;
+        case Joint::Kind::Ball:
+          nv += 3;
+          break;
+        case Joint::Kind::Fixed:
+          break;
+      }
+    }
+    if (b.is_static) continue;
+    switch (b.shape.kind) {
+      case Shape::Kind::None:
+        break;
+      case Shape::Kind::Sphere:
+        ncon += kContactsPerSphere;
+        break;
+      case Shape::Kind::Box:
+        ncon += kContactsPerBox;
+        break;
+      case Shape::Kind::Capsule:
+        ncon += kContactsPerCapsule;
+        break;
+    }
+  }
+  const int nconmax = std::max(ncon, 1);
+  const int njmax = std::max(eq_rows + limit_rows + kRowsPerContact * ncon, 1);
+  // mjData buffer: efc_J, efc_JT (mjtNum) and their column indices (int), njmax x nv each, plus
+  // efc_AR (mjtNum) and its column indices (int), njmax x njmax; the rest is small.
+  const double bytes = 24.0 * njmax * std::max(nv, 1) + 12.0 * njmax * static_cast<double>(njmax) +
+                       600.0 * nconmax + 1e6;
+  if (bytes > 0.98 * kMaxBufferBytes) {
+    char why[300];
+    std::snprintf(
+        why, sizeof why,
+        "MuJoCo 2.2.2 preallocates dense njmax x nv and njmax x njmax constraint arrays in "
+        "one int-sized buffer: %d dofs and %d budgeted constraint rows need %.1f GB > 2 GiB",
+        nv, njmax, bytes * 1e-9);
+    throw Unsupported(why);
+  }
+  // Stack: MuJoCo's own heuristic, 5 (njmax + neq + nv)^2 mjtNums (plus 20 per element), is kept:
+  // it is only reserved (malloc, not touched; the Newton solver uses about 3 to 5 nv^2). It is
+  // computed in int, though, and would overflow for large models, so there it is capped at 2^30
+  // mjtNums (8 GiB of address space).
+  constexpr double kStackCap = 1073741824.0;
+  const bool cap_stack = 5.0 * std::pow(njmax + eq_rows / 3 + nv, 2.0) > 0.9 * kStackCap;
+
+  // The model.
+  Mjcf mjcf;
+  mjcf.files.emplace_back("model.xml", std::string());
+  std::string xml = "<mujoco model='bench'><compiler angle='radian'/>";
+  xml += "<option timestep='" + num(scene.timestep) + "' gravity='" + vec(scene.gravity) +
+         "' integrator='Euler'/>";
+  xml += "<size njmax='" + std::to_string(njmax) + "' nconmax='" + std::to_string(nconmax) + "'";
+  if (cap_stack) xml += " nstack='" + num(kStackCap) + "'";
+  xml += "/>";
+  xml += "<default><geom condim='3' friction='" + num(scene.friction) + " 0 0'/></default>";
+  xml += "<worldbody>";
+  if (scene.ground_z) {
+    xml += "<geom name='ground' type='plane' size='0 0 1' pos='0 0 " + num(*scene.ground_z) + "'/>";
+  }
+  Writer writer(scene, tree, mjcf);
+  for (int r : tree.roots) writer.body(r, 0, xml);
+  xml += "</worldbody>";
+  if (!exclude.empty()) xml += "<contact>" + exclude + "</contact>";
+  if (!equality.empty()) xml += "<equality>" + equality + "</equality>";
+  if (!actuator.empty()) xml += "<actuator>" + actuator + "</actuator>";
+  xml += "</mujoco>";
+  mjcf.files[0].second = std::move(xml);
+  if (mjcf.files.size() > mjMAXVFS) throw Unsupported("the MJCF needs more than mjMAXVFS files");
+
+  {
+    // mjVFS holds 2,000 file names of 1,000 characters: keep it off the stack.
+    std::unique_ptr<mjVFS, VfsDeleter> vfs(static_cast<mjVFS*>(std::malloc(sizeof(mjVFS))));
+    if (!vfs) throw std::bad_alloc();
+    mj_defaultVFS(vfs.get());
+    for (const auto& [name, text] : mjcf.files) {
+      if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(text.size())) != 0) {
+        throw std::runtime_error("mj_makeEmptyFileVFS failed for " + name);
+      }
+      std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), name.c_str())], text.data(), text.size());
+    }
+    char error[1000] = "";
+    model_.reset(mj_loadXML("model.xml", vfs.get(), error, sizeof error));
+    if (!model_) throw std::runtime_error(std::string("mj_loadXML: ") + error);
+  }
+  mjModel* m = model_.get();
+  data_.reset(mj_makeData(m));
+  if (!data_) throw std::runtime_error("mj_makeData failed");
+  mjData* d = data_.get();
+
+  body_id_.resize(scene.bodies.size());
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    body_id_[i] = mj_name2id(m, mjOBJ_BODY, bodyName(static_cast<int>(i)).c_str());
+    if (body_id_[i] < 0)
+      throw std::runtime_error("MuJoCo body " + bodyName(static_cast<int>(i)) + " missing");
+  }
+
+  // Initial velocities: a freejoint's are the linear velocity (world) and the angular velocity in
+  // the body frame; a hinge or slider's the relative rate about / along its axis.
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& b = scene.bodies[i];
+    if (b.is_static) continue;
+    if (tree.free_root[i]) {
+      const int jid = mj_name2id(m, mjOBJ_JOINT, (std::to_string(i).insert(0, "free")).c_str());
+      mjtNum* v = d->qvel + m->jnt_dofadr[jid];
+      const Vec3 w = b.orientation.normalized().conjugate() * b.angular_velocity;
+      for (int k = 0; k < 3; ++k) {
+        v[k] = b.velocity[k];
+        v[3 + k] = w[k];
+      }
+      continue;
+    }
+    const int j = tree.joint[i];
+    if (j < 0) continue;
+    const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
+    const int jid = mj_name2id(m, mjOBJ_JOINT, (std::to_string(j).insert(0, "j")).c_str());
+    if (jid < 0) continue;  // fixed
+    const int p = tree.parent[i];
+    const Body* pb = p == kWorld ? nullptr : &scene.bodies[static_cast<std::size_t>(p)];
+    const Vec3 pw = pb ? pb->angular_velocity : Vec3::Zero();
+    const Vec3 axis = (tree.flipped[i] ? -jt.axis : jt.axis).normalized();
+    mjtNum* v = d->qvel + m->jnt_dofadr[jid];
+    switch (jt.kind) {
+      case Joint::Kind::Hinge:
+        v[0] = (b.angular_velocity - pw).dot(axis);
+        break;
+      case Joint::Kind::Slider: {
+        const Vec3 pv =
+            pb ? Vec3(pb->velocity + pw.cross(b.position - pb->position)) : Vec3::Zero();
+        v[0] = (b.velocity - pv).dot(axis);
+        break;
+      }
+      case Joint::Kind::Ball: {
+        const Vec3 w = b.orientation.normalized().conjugate() * (b.angular_velocity - pw);
+        for (int k = 0; k < 3; ++k) v[k] = w[k];
+        break;
+      }
+      case Joint::Kind::Fixed:
+        break;
+    }
+  }
+
+  mj_step1(m, d);  // positions and velocities: kinematics, mass matrix, collisions, constraints
+
+  // Motors: ctrl = target velocity, kv = effective inertia of the dof at the start / h.
+  for (int a = 0; a < m->nu; ++a) {
+    const char* name = mj_id2name(m, mjOBJ_ACTUATOR, a);
+    const int j = std::atoi(name + 1);
+    const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
+    const int dof = m->jnt_dofadr[m->actuator_trnid[2 * a]];
+    std::vector<mjtNum> unit(static_cast<std::size_t>(m->nv), 0.0),
+        column(static_cast<std::size_t>(m->nv), 0.0);
+    unit[static_cast<std::size_t>(dof)] = 1.0;
+    mj_solveM(m, d, column.data(), unit.data(), 1);
+    const double kv = 1.0 / (m->opt.timestep * column[static_cast<std::size_t>(dof)]);
+    m->actuator_gainprm[mjNGAIN * a] = kv;
+    m->actuator_biasprm[mjNBIAS * a + 2] = -kv;
+    d->ctrl[a] = jt.motor->target_velocity;
+  }
+}
+
+std::string settingsString() {
+  mjOption opt;
+  mj_defaultOption(&opt);
+  mjtNum solref[mjNREF], solimp[mjNIMP];
+  mj_defaultSolRefImp(solref, solimp);
+  const char* solver = opt.solver == mjSOL_NEWTON ? "Newton"
+                       : opt.solver == mjSOL_CG   ? "CG"
+                                                  : "PGS";
+  const char* cone = opt.cone == mjCONE_PYRAMIDAL ? "pyramidal" : "elliptic";
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "%s %d it tol %g, %s cone, Euler, solref %g %g, solimp %g %g %g %g %g, condim 3; "
+                "loops: connect; motor: velocity actuator kv = M_eff/h",
+                solver, opt.iterations, opt.tolerance, cone, solref[0], solref[1], solimp[0],
+                solimp[1], solimp[2], solimp[3], solimp[4]);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<Variant> mujocoVariants(const Scene&) {
+  Variant v;
+  v.engine = "MuJoCo";
+  v.settings = settingsString();
+  v.make = [](const Scene& scene) -> std::unique_ptr<Engine> {
+    return std::make_unique<MujocoEngine>(scene);
+  };
+  return {v};
+}
+
+}  // namespace bench
