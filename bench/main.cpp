@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -116,21 +117,29 @@ int main(int argc, char** argv) {
   for (const bench::Result& r : results) failed = failed || (r.reference && !r.ran);
 
   if (!markdown.empty()) {
-    const std::string tmp = markdown + ".tmp";
-    {
-      std::ofstream out(tmp);
-      out << "Machine:\n\n";
-      for (const std::string& line : machine) out << "- " << line << "\n";
-      out << "\nCommand: `" << command << "`\n\n"
-          << bench::table(results, true) << "\nTargets:\n\n"
-          << bench::targetLines(targets, true);
-      if (!out) {
-        std::fprintf(stderr, "linx-bench: %s: cannot write\n", tmp.c_str());
-        std::remove(tmp.c_str());
-        return 2;
+    std::string report = "Machine:\n\n";
+    for (const std::string& line : machine) report += "- " + line + "\n";
+    report += "\nCommand: `" + command + "`\n\n" + bench::table(results, true) + "\nTargets:\n\n" +
+              bench::targetLines(targets, true);
+    // A file with the markers gets the report between them, the rest kept (docs/performance.md);
+    // any other file is the report alone. Written under a temporary name, then renamed.
+    const std::string begin = "<!-- linx-bench:begin -->", end = "<!-- linx-bench:end -->";
+    std::string text = report;
+    if (std::ifstream in{markdown}) {
+      const std::string old{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+      const auto b = old.find(begin), e = old.find(end);
+      if (b != std::string::npos && e != std::string::npos && b < e) {
+        text = old.substr(0, b + begin.size()) + "\n" + report + old.substr(e);
       }
     }
-    if (std::rename(tmp.c_str(), markdown.c_str()) != 0) {
+    const std::string tmp = markdown + ".tmp";
+    bool ok = false;
+    {
+      std::ofstream out(tmp);
+      out << text;
+      ok = static_cast<bool>(out);
+    }
+    if (!ok || std::rename(tmp.c_str(), markdown.c_str()) != 0) {
       std::fprintf(stderr, "linx-bench: %s: cannot write\n", markdown.c_str());
       std::remove(tmp.c_str());
       return 2;

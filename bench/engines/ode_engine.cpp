@@ -1,0 +1,380 @@
+// ODE 0.16 (Debian libode-dev, double precision) adapter: dWorldQuickStep (projected Gauss-Seidel,
+// 20 iterations) and dWorldStep (the direct "big matrix" Dantzig LCP, dense per island).
+//
+// Mapping of the scene:
+// - a dynamic body is a dBody with the scene's mass and principal inertia (dMassSetParameters,
+//   never recomputed from the geometry), pose and velocities; its shape is a geom attached to it
+//   (ODE's capsule lies along its local z, like the scene's);
+// - a static body is a geom without a body (it never moves); a static body without a shape is
+//   only remembered, for pose();
+// - the ground is a dPlane;
+// - joints: ODE measures a hinge angle / slider position (and drives its motor) as body1 relative
+//   to body2, the scene as body2 relative to body1, so every joint is attached in swapped order
+//   (when that would put the world first, the body stays first and the axis is flipped); an end
+//   that is the world or a static body is ODE's static environment (0);
+// - contacts: one sweep-and-prune space; the near callback skips pairs joined by a joint
+//   (dAreConnectedExcluding, plus a list for joints to static bodies), asks for at most 4 points
+//   per pair and makes hard contacts (the world's ERP and CFM, no bounce, no softness) with
+//   Coulomb friction mu = scene friction in ODE's pyramid approximation (dContactApprox1: two
+//   fixed tangent directions, each bounded by mu times the normal force); the contact group is
+//   emptied after every step.
+// Everything else is left at ODE's defaults (ERP 0.2, CFM 1e-10 in double precision, SOR 1.3,
+// contact surface layer 0, no max correcting velocity, no damping, no auto-disable). ODE's global
+// random generator (QuickStep reorders constraints with it) is reseeded by every new engine, so a
+// run is reproducible as long as one ODE engine steps at a time.
+#include "engine.hpp"
+
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bench {
+namespace {
+
+constexpr int kQuickStepIterations = 20;
+constexpr int kMaxContactsPerPair = 4;
+// dWorldStep builds and factors a dense m x m LCP per island, O(m^3) or worse once the matrix
+// leaves the cache: measured on the 2-core test machine, a 100-link chain (500 rows) takes ~12 ms
+// per step, 200 links (1,000 rows) ~0.4 s, 400 links ~2.9 s; a base-10 pyramid (~1,300 contact
+// rows) ~0.5 s. Islands estimated above this limit are refused.
+constexpr int kDenseRowLimit = 1000;
+// Estimated contact rows per body with a shape, for that estimate: a resting box has about two
+// contact pairs (with the bodies below it, or the ground) of up to 4 points and 3 rows each.
+constexpr int kContactRowsPerShapedBody = 24;
+
+/// dInitODE2 once per process (reference counted by ODE), dCloseODE at exit.
+struct OdeLibrary {
+  OdeLibrary() {
+    if (dInitODE2(0) == 0) throw Unsupported("dInitODE2 failed");
+    if (dAllocateODEDataForThread(dAllocateMaskAll) == 0) {
+      dCloseODE();
+      throw Unsupported("dAllocateODEDataForThread failed");
+    }
+  }
+  ~OdeLibrary() { dCloseODE(); }
+  OdeLibrary(const OdeLibrary&) = delete;
+  OdeLibrary& operator=(const OdeLibrary&) = delete;
+};
+
+void ensureOde() {
+  static OdeLibrary library;
+}
+
+std::string commonSettings() {
+  return "ERP 0.2, CFM 1e-10, hard contacts, pyramid friction (Approx1), " +
+         std::to_string(kMaxContactsPerPair) + " pts/pair";
+}
+
+/// Constraint rows an ODE joint adds (a limit or motor adds one row, shared by both).
+int jointRows(const Joint& j) {
+  const int extra = (j.limits || j.motor) ? 1 : 0;
+  switch (j.kind) {
+    case Joint::Kind::Hinge:
+      return 5 + extra;
+    case Joint::Kind::Slider:
+      return 5 + extra;
+    case Joint::Kind::Ball:
+      return 3;
+    case Joint::Kind::Fixed:
+      return 6;
+  }
+  return 6;
+}
+
+bool isDynamic(const Scene& s, int i) {
+  return i >= 0 && i < static_cast<int>(s.bodies.size()) && !s.bodies[i].is_static;
+}
+
+/// Throws Unsupported for what this adapter does not model.
+void checkFeatures(const Scene& s) {
+  const int n = static_cast<int>(s.bodies.size());
+  for (const Joint& j : s.joints) {
+    if (j.body1 < -1 || j.body1 >= n || j.body2 < -1 || j.body2 >= n) {
+      throw Unsupported("joint refers to a body that does not exist");
+    }
+    if ((j.kind == Joint::Kind::Ball || j.kind == Joint::Kind::Fixed) && (j.limits || j.motor)) {
+      throw Unsupported("limits or motors on ball/fixed joints are not modelled");
+    }
+  }
+}
+
+/// dWorldStep: estimates the constraint rows of the largest island (joint-connected bodies; all
+/// bodies with a shape and no joint counted as one pile, since they touch each other) and refuses
+/// the scene above kDenseRowLimit.
+void checkDenseSize(const Scene& s) {
+  const int n = static_cast<int>(s.bodies.size());
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&parent](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<char> jointed(n, 0);
+  for (const Joint& j : s.joints) {
+    const bool d1 = isDynamic(s, j.body1), d2 = isDynamic(s, j.body2);
+    if (d1) jointed[j.body1] = 1;
+    if (d2) jointed[j.body2] = 1;
+    if (d1 && d2) parent[find(j.body1)] = find(j.body2);
+  }
+  int pile = -1;  // free bodies with shapes share one island
+  for (int i = 0; i < n; ++i) {
+    const Body& b = s.bodies[i];
+    if (b.is_static || jointed[i] || b.shape.kind == Shape::Kind::None) continue;
+    if (pile < 0) {
+      pile = i;
+    } else {
+      parent[find(i)] = find(pile);
+    }
+  }
+  std::vector<long> rows(n, 0);
+  for (int i = 0; i < n; ++i) {
+    if (!s.bodies[i].is_static && s.bodies[i].shape.kind != Shape::Kind::None) {
+      rows[find(i)] += kContactRowsPerShapedBody;
+    }
+  }
+  for (const Joint& j : s.joints) {
+    const int a = isDynamic(s, j.body1) ? j.body1 : j.body2;
+    if (isDynamic(s, a)) rows[find(a)] += jointRows(j);
+  }
+  const long largest = n ? *std::max_element(rows.begin(), rows.end()) : 0;
+  if (largest > kDenseRowLimit) {
+    throw Unsupported("dWorldStep is a dense O(m^3) LCP per island: ~" + std::to_string(largest) +
+                      " constraint rows estimated, limit " + std::to_string(kDenseRowLimit));
+  }
+}
+
+class OdeEngine final : public Engine {
+ public:
+  OdeEngine(const Scene& scene, bool quick);
+  ~OdeEngine() override;
+  OdeEngine(const OdeEngine&) = delete;
+  OdeEngine& operator=(const OdeEngine&) = delete;
+
+  void step() override;
+  Pose pose(int i) const override;
+
+ private:
+  static void nearCallback(void* data, dGeomID a, dGeomID b);
+  void collide(dGeomID a, dGeomID b);
+
+  bool quick_;
+  double h_;
+  double mu_;
+  dWorldID world_ = nullptr;
+  dSpaceID space_ = nullptr;
+  dJointGroupID contacts_ = nullptr;
+  std::vector<dBodyID> bodies_;                // per scene body; nullptr for static bodies
+  std::vector<Pose> fixed_;                    // poses of static bodies
+  std::vector<int> index_;                     // geom data: the scene body index
+  std::vector<std::pair<int, int>> excluded_;  // (static, dynamic) pairs joined by a joint, sorted
+};
+
+OdeEngine::OdeEngine(const Scene& scene, bool quick)
+    : quick_(quick), h_(scene.timestep), mu_(scene.friction) {
+  const int n = static_cast<int>(scene.bodies.size());
+  // Every C++ allocation happens before the first ODE object exists, so nothing can leak if one
+  // throws.
+  bodies_.assign(n, nullptr);
+  fixed_.resize(n);
+  index_.resize(n);
+  std::iota(index_.begin(), index_.end(), 0);
+  excluded_.reserve(2 * scene.joints.size());
+  // QuickStep reorders its constraints with ODE's global generator every 8 iterations: restart it,
+  // so that a run does not depend on what ran before it in the process.
+  dRandSetSeed(0);
+  world_ = dWorldCreate();
+  // Sweep and prune: 2-3x cheaper than dHashSpace on these scenes (measured), same contacts.
+  space_ = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ);
+  contacts_ = dJointGroupCreate(0);
+  dWorldSetGravity(world_, scene.gravity.x(), scene.gravity.y(), scene.gravity.z());
+  dWorldSetQuickStepNumIterations(world_, kQuickStepIterations);
+
+  for (int i = 0; i < n; ++i) {
+    const Body& b = scene.bodies[i];
+    const dQuaternion q = {b.orientation.w(), b.orientation.x(), b.orientation.y(),
+                           b.orientation.z()};
+    dGeomID g = nullptr;
+    switch (b.shape.kind) {
+      case Shape::Kind::None:
+        break;
+      case Shape::Kind::Sphere:
+        g = dCreateSphere(space_, b.shape.radius);
+        break;
+      case Shape::Kind::Box:
+        g = dCreateBox(space_, 2 * b.shape.half_extents.x(), 2 * b.shape.half_extents.y(),
+                       2 * b.shape.half_extents.z());
+        break;
+      case Shape::Kind::Capsule:
+        g = dCreateCapsule(space_, b.shape.radius, 2 * b.shape.half_length);
+        break;
+    }
+    if (g) dGeomSetData(g, &index_[i]);
+    if (b.is_static) {
+      fixed_[i] = Pose{b.position, b.orientation};
+      if (g) {
+        dGeomSetPosition(g, b.position.x(), b.position.y(), b.position.z());
+        dGeomSetQuaternion(g, q);
+      }
+      continue;
+    }
+    dBodyID body = dBodyCreate(world_);
+    dMass m;
+    dMassSetParameters(&m, b.mass, 0, 0, 0, b.inertia.x(), b.inertia.y(), b.inertia.z(), 0, 0, 0);
+    dBodySetMass(body, &m);
+    dBodySetPosition(body, b.position.x(), b.position.y(), b.position.z());
+    dBodySetQuaternion(body, q);
+    dBodySetLinearVel(body, b.velocity.x(), b.velocity.y(), b.velocity.z());
+    dBodySetAngularVel(body, b.angular_velocity.x(), b.angular_velocity.y(),
+                       b.angular_velocity.z());
+    if (g) dGeomSetBody(g, body);
+    bodies_[i] = body;
+  }
+  if (scene.ground_z) {
+    dGeomID plane = dCreatePlane(space_, 0, 0, 1, *scene.ground_z);
+    dGeomSetData(plane, nullptr);
+  }
+
+  const auto bodyOf = [this](int i) { return i >= 0 ? bodies_[i] : nullptr; };
+  for (const Joint& j : scene.joints) {
+    // Swapped: ODE's coordinate is body1 relative to body2, the scene's body2 relative to body1.
+    dBodyID o1 = bodyOf(j.body2), o2 = bodyOf(j.body1);
+    if (!o1 && !o2) continue;  // both ends fixed: nothing to constrain
+    Vec3 x = j.axis;
+    if (!o1) {
+      // ODE would swap the bodies itself and flag the joint reversed, but 0.16's hinge limits and
+      // motor ignore that flag. Keep the body first and flip the axis instead: the rotation of
+      // body1 relative to the world about -axis is that of the world relative to body1 about axis.
+      std::swap(o1, o2);
+      x = -x;
+    }
+    for (const auto& [s, d] : {std::pair{j.body1, j.body2}, std::pair{j.body2, j.body1}}) {
+      if (s >= 0 && scene.bodies[s].is_static && d >= 0 && !scene.bodies[d].is_static) {
+        excluded_.emplace_back(s, d);
+      }
+    }
+    const Vec3& a = j.anchor;
+    dJointID joint = nullptr;
+    switch (j.kind) {
+      case Joint::Kind::Hinge:
+        joint = dJointCreateHinge(world_, nullptr);
+        dJointAttach(joint, o1, o2);
+        dJointSetHingeAnchor(joint, a.x(), a.y(), a.z());
+        dJointSetHingeAxis(joint, x.x(), x.y(), x.z());
+        if (j.limits) {
+          dJointSetHingeParam(joint, dParamLoStop, j.limits->lower);
+          dJointSetHingeParam(joint, dParamHiStop, j.limits->upper);
+        }
+        if (j.motor) {
+          dJointSetHingeParam(joint, dParamVel, j.motor->target_velocity);
+          dJointSetHingeParam(joint, dParamFMax, j.motor->max_force);
+        }
+        break;
+      case Joint::Kind::Slider:
+        joint = dJointCreateSlider(world_, nullptr);
+        dJointAttach(joint, o1, o2);
+        dJointSetSliderAxis(joint, x.x(), x.y(), x.z());
+        if (j.limits) {
+          dJointSetSliderParam(joint, dParamLoStop, j.limits->lower);
+          dJointSetSliderParam(joint, dParamHiStop, j.limits->upper);
+        }
+        if (j.motor) {
+          dJointSetSliderParam(joint, dParamVel, j.motor->target_velocity);
+          dJointSetSliderParam(joint, dParamFMax, j.motor->max_force);
+        }
+        break;
+      case Joint::Kind::Ball:
+        joint = dJointCreateBall(world_, nullptr);
+        dJointAttach(joint, o1, o2);
+        dJointSetBallAnchor(joint, a.x(), a.y(), a.z());
+        break;
+      case Joint::Kind::Fixed:
+        joint = dJointCreateFixed(world_, nullptr);
+        dJointAttach(joint, o1, o2);
+        dJointSetFixed(joint);
+        break;
+    }
+  }
+  std::sort(excluded_.begin(), excluded_.end());
+}
+
+OdeEngine::~OdeEngine() {
+  dJointGroupDestroy(contacts_);
+  dSpaceDestroy(space_);  // destroys its geoms (cleanup mode is on by default)
+  dWorldDestroy(world_);  // destroys bodies and joints
+}
+
+void OdeEngine::nearCallback(void* data, dGeomID a, dGeomID b) {
+  static_cast<OdeEngine*>(data)->collide(a, b);
+}
+
+void OdeEngine::collide(dGeomID a, dGeomID b) {
+  dBodyID b1 = dGeomGetBody(a), b2 = dGeomGetBody(b);
+  if (!b1 && !b2) return;  // static against static or the ground
+  if (b1 && b2 && dAreConnectedExcluding(b1, b2, dJointTypeContact)) return;
+  if (!excluded_.empty() && (!b1 || !b2)) {
+    const void* da = dGeomGetData(a);
+    const void* db = dGeomGetData(b);
+    if (da && db) {
+      const int ia = *static_cast<const int*>(da), ib = *static_cast<const int*>(db);
+      const auto key = b1 ? std::pair{ib, ia} : std::pair{ia, ib};  // (static, dynamic)
+      if (std::binary_search(excluded_.begin(), excluded_.end(), key)) return;
+    }
+  }
+  dContact contact[kMaxContactsPerPair] = {};
+  const int count = dCollide(a, b, kMaxContactsPerPair, &contact[0].geom, sizeof(dContact));
+  for (int k = 0; k < count; ++k) {
+    contact[k].surface.mode = dContactApprox1;
+    contact[k].surface.mu = mu_;
+    dJointID c = dJointCreateContact(world_, contacts_, &contact[k]);
+    dJointAttach(c, b1, b2);
+  }
+}
+
+void OdeEngine::step() {
+  dSpaceCollide(space_, this, &OdeEngine::nearCallback);
+  if (quick_) {
+    dWorldQuickStep(world_, h_);
+  } else {
+    dWorldStep(world_, h_);
+  }
+  dJointGroupEmpty(contacts_);
+}
+
+Pose OdeEngine::pose(int i) const {
+  const dBodyID b = bodies_.at(i);
+  if (!b) return fixed_[i];
+  const dReal* p = dBodyGetPosition(b);
+  const dReal* q = dBodyGetQuaternion(b);
+  return Pose{Vec3(p[0], p[1], p[2]), Quat(q[0], q[1], q[2], q[3])};
+}
+
+}  // namespace
+
+std::vector<Variant> odeVariants(const Scene& /*scene*/) {
+  std::vector<Variant> v;
+  v.push_back(Variant{"ODE",
+                      "dWorldQuickStep " + std::to_string(kQuickStepIterations) +
+                          " it (SOR 1.3), " + commonSettings(),
+                      [](const Scene& s) -> std::unique_ptr<Engine> {
+                        checkFeatures(s);
+                        ensureOde();
+                        return std::make_unique<OdeEngine>(s, true);
+                      },
+                      false});
+  v.push_back(Variant{"ODE", "dWorldStep (dense LCP), " + commonSettings(),
+                      [](const Scene& s) -> std::unique_ptr<Engine> {
+                        checkFeatures(s);
+                        checkDenseSize(s);
+                        ensureOde();
+                        return std::make_unique<OdeEngine>(s, false);
+                      },
+                      false});
+  return v;
+}
+
+}  // namespace bench
