@@ -1,5 +1,7 @@
 #include "solver/exact_solver.hpp"
 
+#include "solver/dense_ldlt.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -32,9 +34,6 @@ void ExactSolver::buildMatrix(const Problem& p) {
   }
   a_.resize(int(n), int(n));
   a_.setFromTriplets(triplets.begin(), triplets.end());
-  b_.resize(int(n));
-  for (std::size_t k = 0; k < n; ++k)
-    b_[int(k)] = RowSystem::rate(p.rows[k], p.bodies) - sys_.target[k];
 }
 
 void ExactSolver::multiply(const Problem& p, std::span<const double> x, std::span<double> out) {
@@ -143,11 +142,7 @@ int ExactSolver::solveFreeDense(const Problem& p) {
     }
   }
   const auto solveWith = [&](Eigen::VectorXd x) {
-    for (int j = 0; j < nf; ++j)
-      for (int k = 0; k < j; ++k) x[j] -= f(j, k) * x[k];
-    for (int j = 0; j < nf; ++j) x[j] /= f(j, j);
-    for (int j = nf - 1; j >= 0; --j)
-      for (int i = j + 1; i < nf; ++i) x[j] -= f(i, j) * x[i];
+    solveLdlt(f.data(), nf, x.data());
     return x;
   };
   Eigen::VectorXd x = solveWith(rhs);
@@ -244,11 +239,9 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
   sys_.build(p);
   tree_ = tree_factor_.analyse(p);
   dense_ = !tree_ && n <= kDenseRows;
-  if (tree_ || dense_) {
-    b_.resize(int(n));
-    for (std::size_t k = 0; k < n; ++k)
-      b_[int(k)] = RowSystem::rate(p.rows[k], p.bodies) - sys_.target[k];
-  }
+  b_.resize(int(n));  // J u* - xi
+  for (std::size_t k = 0; k < n; ++k)
+    b_[int(k)] = RowSystem::rate(p.rows[k], p.bodies) - sys_.target[k];
   if (dense_) {  // A = J M^-1 J^T + diag(cfm), entry by entry over the bodies two rows share
     dense_a_.resize(int(n), int(n));
     for (std::size_t k = 0; k < n; ++k) {

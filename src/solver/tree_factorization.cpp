@@ -1,5 +1,7 @@
 #include "solver/tree_factorization.hpp"
 
+#include "solver/dense_ldlt.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -37,23 +39,8 @@ int factorDense(double* a, int n, int first_row, const double* cfm) {
   return redundant;
 }
 
-// x = A^-1 x with the factors of factorDense.
-void solveDense(const double* a, int n, double* x) {
-  for (int j = 0; j < n; ++j) {
-    double v = x[j];
-    for (int k = 0; k < j; ++k) v -= a[j + k * n] * x[k];
-    x[j] = v;
-  }
-  for (int j = 0; j < n; ++j) x[j] /= a[j + j * n];
-  for (int j = n - 1; j >= 0; --j) {
-    double v = x[j];
-    for (int i = j + 1; i < n; ++i) v -= a[i + j * n] * x[i];
-    x[j] = v;
-  }
-}
-
 // X = A^-1 X for the m columns of the n x m column-major X at once: the same operations as m calls
-// of solveDense, with the columns innermost so that they run side by side.
+// of solveLdlt, with the columns innermost so that they run side by side.
 void solveDenseColumns(const double* a, int n, double* x, int m) {
   for (int j = 0; j < n; ++j) {
     for (int k = 0; k < j; ++k) {
@@ -350,7 +337,7 @@ void TreeFactorization::solve(std::span<double> x) {
     }
   }
   // Diagonal blocks, then backward: z(i) -= X z(parent), roots first.
-  for (const Node& node : nodes_) solveDense(d_.data() + node.d, node.size, z_.data() + node.z);
+  for (const Node& node : nodes_) solveLdlt(d_.data() + node.d, node.size, z_.data() + node.z);
   for (auto it = order_.rbegin(); it != order_.rend(); ++it) {
     const Node& node = nodes_[static_cast<std::size_t>(*it)];
     if (node.parent < 0) continue;
