@@ -223,6 +223,51 @@ TEST(Collision, FrictionlessHeadOnCollisionConservesMomentum) {
   }
 }
 
+// Speculative contacts: rows for a gap the bodies can close within the step, and only those.
+// A ball falling at 12 m/s with h = 1/60 s covers 0.2 m per step, four times its radius: it must
+// stop at the plane (penetration within the 0.5 mm slop plus the erp's one-step lag, never
+// through it), because its row exists while the gap is still open. Two balls falling side by side,
+// 2 cm apart (beyond the 1 cm margin, well within the 0.4 m that their swept boxes reach), close
+// nothing along their normal: no contact may be reported between them, and none may push them
+// apart (their horizontal velocities stay exactly zero).
+TEST(SpeculativeContact, FastBallStopsAtThePlaneAndSideBySideBallsGetNoRow) {
+  const double r = 0.05, h = 1.0 / 60.0;
+  WorldSettings s;
+  s.timestep = h;
+  World world(s);
+  world.createBody(ground(Vec3::UnitZ(), 0.5));
+  auto ball = [&](const char* name, const Vec3& x, const Vec3& v) {
+    BodyDef d;
+    d.name = name;
+    d.mass = 0.1;
+    d.inertia = Mat3::Identity() * 0.4 * 0.1 * r * r;
+    d.position = x;
+    d.linear_velocity = v;
+    d.shapes.push_back(ShapeDef{.type = ShapeType::Sphere, .radius = r, .friction = 0.5});
+    return world.createBody(d);
+  };
+  const BodyId fast = ball("fast", Vec3(-1, 0, r + 0.5), Vec3(0, 0, -12));
+  const BodyId left = ball("left", Vec3(1, 0, 4.0), Vec3(0, 0, -12));
+  const BodyId right = ball("right", Vec3(1 + 2 * r + 0.02, 0, 4.0), Vec3(0, 0, -12));
+  double lowest = 1.0;
+  bool side_contact = false;
+  for (int i = 0; i < 12; ++i) {  // the pair falls 2.6 m from 4 m: still in the air
+    world.step();
+    lowest = std::min(lowest, world.body(fast).position().z());
+    for (const Contact& c : world.contacts())
+      if ((c.body1 == left && c.body2 == right) || (c.body1 == right && c.body2 == left))
+        side_contact = true;
+  }
+  std::printf("fast ball: lowest centre %.6f m (radius %.2f); pair z = %.3f m\n", lowest, r,
+              world.body(left).position().z());
+  EXPECT_GT(lowest, r - 2e-3);
+  EXPECT_LT(std::abs(world.body(fast).position().z() - r), 2e-3);  // resting on the plane
+  EXPECT_GT(world.body(left).position().z(), r + 0.1);             // the pair has not landed yet
+  EXPECT_FALSE(side_contact);
+  EXPECT_EQ(world.body(left).linearVelocity().head<2>().norm(), 0.0);
+  EXPECT_EQ(world.body(right).linearVelocity().head<2>().norm(), 0.0);
+}
+
 // A contact given a stiffness k and damping c instead of erp and cfm is a spring: a ball resting on
 // it sinks by m g / k beyond the slop (the slop is never corrected), to 1e-9 m once the damped
 // motion has died out (c is set near critical: 2 sqrt(k m)).

@@ -66,12 +66,15 @@ class SweepAndPrune {
   void buildCells(std::span<const Aabb> boxes);
   int cellOf(int q, double x) const;
   void setCellCounts(int count_b, int count_c);  // column index along cell axis q (monotone in x)
+  void sortPairs(int n);
 
   std::vector<Key> keys_;
   std::vector<Entry> entries_;
   std::vector<int> cell_begin_;  // column s holds entries_[cell_begin_[s], cell_begin_[s + 1])
   std::vector<int> cell_fill_;
   std::vector<std::pair<int, int>> pairs_;
+  std::vector<std::pair<int, int>> sorted_;  // sortPairs' output, swapped with pairs_
+  std::vector<int> pair_start_;              // sortPairs' buckets, by first index
   int axis_ = -1;
   std::array<int, 2> cell_axis_{1, 2};
   std::array<int, 2> cell_count_{1, 1};

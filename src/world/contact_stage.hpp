@@ -71,6 +71,7 @@ class ContactStage {
   std::vector<int> first_shape_;  // body i's shapes start at first_shape_[i] in geometry_
   std::vector<int> shape_body_;   // the body of each flattened shape
   std::vector<collision::Aabb> boxes_;
+  std::vector<Pose> poses_;    // per shape: its frame in the world this step
   std::vector<double> reach_;  // per shape: how far its points travel in the step (m)
   collision::SweepAndPrune broadphase_;
   std::vector<std::pair<int, int>> joined_;  // body pairs joined by a non-colliding joint, sorted

@@ -47,6 +47,8 @@ struct World::Impl {
   std::vector<int> neighbours;  // the warm-start impulses, kept for sleeping islands
   std::unique_ptr<solver::ConstraintSolver> solver;
   SolverType solver_type = SolverType::Auto;  // what `solver` is
+  // Names to indices: a scene of 64,000 bodies would otherwise spend seconds in duplicate checks.
+  std::unordered_map<std::string, int> body_names, joint_names;
 };
 
 World::World(const WorldSettings& settings)
@@ -86,6 +88,7 @@ BodyId World::createBody(const BodyDef& def) {
   Body body(def);
   impl_->contact.addBody(body);  // prepares hulls and meshes; throws for bad ones
   bodies_.push_back(std::move(body));
+  impl_->body_names.emplace(def.name, bodyCount() - 1);
   impl_->sleep.resize(bodyCount());
   return BodyId{bodyCount() - 1};
 }
@@ -99,6 +102,7 @@ JointId World::createJoint(std::string_view type, const JointDef& def) {
   if (findJoint(def.name))
     throw std::invalid_argument(fmt::format("duplicate joint name '{}'", def.name));
   joints_.push_back(makeJoint(type, def, bodyState(def.body1), bodyState(def.body2)));
+  impl_->joint_names.emplace(def.name, jointCount() - 1);
   // A new joint may pull on sleeping bodies.
   impl_->sleep.wake(def.body1.index);
   if (!def.body2.isWorld()) impl_->sleep.wake(def.body2.index);
@@ -121,14 +125,14 @@ const Joint& World::joint(JointId id) const {
 }
 
 std::optional<BodyId> World::findBody(std::string_view name) const {
-  for (int i = 0; i < bodyCount(); ++i)
-    if (bodies_[static_cast<std::size_t>(i)].name() == name) return BodyId{i};
-  return std::nullopt;
+  const auto it = impl_->body_names.find(std::string(name));
+  if (it == impl_->body_names.end()) return std::nullopt;
+  return BodyId{it->second};
 }
 std::optional<JointId> World::findJoint(std::string_view name) const {
-  for (int i = 0; i < jointCount(); ++i)
-    if (joints_[static_cast<std::size_t>(i)]->name() == name) return JointId{i};
-  return std::nullopt;
+  const auto it = impl_->joint_names.find(std::string(name));
+  if (it == impl_->joint_names.end()) return std::nullopt;
+  return JointId{it->second};
 }
 
 BodyState World::bodyState(BodyId id) const {
