@@ -108,6 +108,9 @@ case "$case_name" in
     expect 0 "$linx" run good.json --out every --duration 0.05 --timestep 0.001 --every 20
     [ "$(wc -l <every/world.csv)" -eq 5 ] || fail "--every 20: expected 4 frames"
     grep -q "(4 frames, 50 steps," out.txt || fail "--every 20: summary"
+    # --threads changes nothing in the results, to the bit.
+    expect 0 "$linx" run good.json --out threads --duration 0.05 --timestep 0.001 --every 20 --threads 2
+    cmp -s every/bodies.csv threads/bodies.csv || fail "--threads 2: bodies.csv differs"
     ;;
 
   run_contacts)
@@ -151,7 +154,7 @@ case "$case_name" in
 
   bad_flags)
     for flags in "--every 0" "--every -3" "--timestep -1" "--timestep=-1" "--timestep 0" \
-      "--duration nan" "--duration inf" "--duration 0" "--duration 0.0001"; do
+      "--duration nan" "--duration inf" "--duration 0" "--duration 0.0001" "--threads -1"; do
       # shellcheck disable=SC2086
       expect 2 "$linx" run good.json --out out $flags
       expect_error_line "linx: --"
@@ -161,6 +164,8 @@ case "$case_name" in
     [ "$(cat err.txt)" = "linx: --every: must be at least 1, got 0" ] || fail "--every message"
     expect 2 "$linx" run good.json --out out --timestep=-1
     [ "$(cat err.txt)" = "linx: --timestep: must be a finite number > 0, got -1" ] || fail "--timestep message"
+    expect 2 "$linx" run good.json --out out --threads -1
+    [ "$(cat err.txt)" = "linx: --threads: must be an integer >= 0, got -1" ] || fail "--threads message"
     echo "not a directory" >taken
     expect 2 "$linx" run good.json --out taken
     expect_error_line "linx: --out: taken: exists and is not a directory"

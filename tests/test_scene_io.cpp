@@ -412,6 +412,8 @@ TEST(SceneError, TopLevel) {
       {[](json& s) { s["timestep"] = -0.001; }, "timestep", "must be > 0, got -0.001"},
       {[](json& s) { s["duration"] = "5"; }, "duration", "expected a number, got a string"},
       {[](json& s) { s["duration"] = true; }, "duration", "expected a number, got a boolean"},
+      {[](json& s) { s["threads"] = -1; }, "threads", "must be an integer >= 0, got -1"},
+      {[](json& s) { s["threads"] = 1.5; }, "threads", "must be an integer >= 0, got 1.5"},
       {[](json& s) { s.erase("bodies"); }, "bodies", "missing required field"},
       {[](json& s) { s["bodies"] = json::array(); }, "bodies", "must contain at least one body"},
       {[](json& s) { s["bodies"] = json::object(); }, "bodies", "expected an array, got an object"},

@@ -1,5 +1,6 @@
 // The `linx` command line (docs/scene-format.md, "Command line"):
-//   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--every N] [--contacts]
+//   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--threads N] [--every N]
+//            [--contacts]
 //   linx check SCENE.json
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
@@ -52,6 +53,7 @@ struct RunOptions {
   std::string scene;
   std::string out;
   std::optional<double> duration, timestep;
+  std::optional<int> threads;
   int every = 1;
   bool contacts = false;
 };
@@ -89,6 +91,7 @@ Prepared prepare(const RunOptions& options) {
   linx::Scene scene = linx::loadScene(options.scene);
   if (options.duration) scene.duration = *options.duration;
   if (options.timestep) scene.settings.timestep = *options.timestep;
+  if (options.threads) scene.settings.threads = *options.threads;
   const std::int64_t steps = stepCount(scene, options);
   linx::World world = linx::buildWorld(scene);
   return {std::move(scene), std::move(world), steps};
@@ -180,6 +183,9 @@ int main(int argc, char** argv) {
       run_cmd->add_option("--duration", duration, "Simulated time (s), overrides the scene's");
   CLI::Option* timestep_opt =
       run_cmd->add_option("--timestep", timestep, "Step length (s), overrides the scene's");
+  int threads = 0;
+  CLI::Option* threads_opt = run_cmd->add_option(
+      "--threads", threads, "Worker threads (0: one per hardware thread), overrides the scene's");
   run_cmd->add_option("--every", options.every, "Record every N steps (and the last)")
       ->capture_default_str();
   run_cmd->add_flag("--contacts", options.contacts,
@@ -199,6 +205,11 @@ int main(int argc, char** argv) {
   try {
     if (duration_opt->count()) options.duration = positiveFlag("--duration", duration);
     if (timestep_opt->count()) options.timestep = positiveFlag("--timestep", timestep);
+    if (threads_opt->count()) {
+      if (threads < 0)
+        throw BadInput(fmt::format("--threads: must be an integer >= 0, got {}", threads));
+      options.threads = threads;
+    }
     return *check_cmd ? check(options) : run(options);
   } catch (const linx::SceneError& e) {
     fmt::print(stderr, "linx: {}\n", e.what());

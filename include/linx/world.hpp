@@ -41,6 +41,10 @@ struct WorldSettings {
   SolverSettings solver{};
   ContactSettings contact{};
   SleepSettings sleep{};
+  /// Worker threads of a step (collision, per-body stages and the PGS sweep of large islands):
+  /// 0 for one per hardware thread. Results are the same to the bit for any count. One by
+  /// default, as in the peers: programs that run several worlds at once keep their cores.
+  int threads = 1;
 };
 
 struct JointId {

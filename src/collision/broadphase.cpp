@@ -1,6 +1,8 @@
 // Sweep and prune over a coarse grid of columns; see broadphase.hpp for the scheme and its cost.
 #include "collision/broadphase.hpp"
 
+#include "parallel/parallel_for.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -10,6 +12,9 @@
 namespace linx::collision {
 
 namespace {
+
+/// Boxes from which the columns are swept by several threads.
+constexpr std::size_t kParallelBoxes = 2048;
 
 /// Sort key on the sweep axis: NaN goes last (as +infinity) so the ordering stays strict-weak.
 double sweepKey(double x) {
@@ -22,7 +27,33 @@ bool keyLess(double a_min, int a_index, double b_min, int b_index) {
 
 }  // namespace
 
-void SweepAndPrune::update(std::span<const Aabb> boxes) {
+void SweepAndPrune::sweepCell(int cell, std::vector<std::pair<int, int>>& out,
+                              std::size_t& tests_out) const {
+  const int a = axis_;
+  const int b = cell_axis_[0];
+  const int c = cell_axis_[1];
+  const int end = cell_begin_[cell + 1];
+  std::size_t tests = 0;
+  for (int k = cell_begin_[cell]; k < end; ++k) {
+    const Aabb& box_k = entries_[k].box;
+    const double hi = box_k.max[a];
+    for (int m = k + 1; m < end && !(entries_[m].box.min[a] > hi); ++m) {
+      const Aabb& box_m = entries_[m].box;
+      ++tests;
+      if (!box_k.overlaps(box_m)) continue;
+      // Report the pair only in the column holding the start of its overlap: exactly once.
+      const int cb = cellOf(0, std::max(box_k.min[b], box_m.min[b]));
+      const int cc = cellOf(1, std::max(box_k.min[c], box_m.min[c]));
+      if (cb * cell_count_[1] + cc != cell) continue;
+      const int i = entries_[k].index;
+      const int j = entries_[m].index;
+      out.emplace_back(std::min(i, j), std::max(i, j));
+    }
+  }
+  tests_out += tests;
+}
+
+void SweepAndPrune::update(std::span<const Aabb> boxes, int threads) {
   pairs_.clear();
   tests_ = 0;
   const int previous_axis = axis_;
@@ -33,29 +64,28 @@ void SweepAndPrune::update(std::span<const Aabb> boxes) {
   buildCells(boxes);
 
   // Sweep each column: entries are in increasing lower bound along the sweep axis, so box m can
-  // overlap box k (m after k) only while its lower bound is <= k's upper bound.
-  const int a = axis_;
-  const int b = cell_axis_[0];
-  const int c = cell_axis_[1];
-  for (int cell = 0; cell < cell_count_[0] * cell_count_[1]; ++cell) {
-    const int end = cell_begin_[cell + 1];
-    for (int k = cell_begin_[cell]; k < end; ++k) {
-      const Aabb& box_k = entries_[k].box;
-      const double hi = box_k.max[a];
-      for (int m = k + 1; m < end && !(entries_[m].box.min[a] > hi); ++m) {
-        const Aabb& box_m = entries_[m].box;
-        ++tests_;
-        if (!box_k.overlaps(box_m)) continue;
-        // Report the pair only in the column holding the start of its overlap: exactly once.
-        const int cb = cellOf(0, std::max(box_k.min[b], box_m.min[b]));
-        const int cc = cellOf(1, std::max(box_k.min[c], box_m.min[c]));
-        if (cb * cell_count_[1] + cc != cell) continue;
-        const int i = entries_[k].index;
-        const int j = entries_[m].index;
-        pairs_.emplace_back(std::min(i, j), std::max(i, j));
-      }
-    }
-  }
+  // overlap box k (m after k) only while its lower bound is <= k's upper bound. Many columns are
+  // cut into consecutive runs that threads sweep apart; sortPairs then orders the pairs the same
+  // way for any number of threads.
+  const int cells = cell_count_[0] * cell_count_[1];
+  const std::size_t chunks =
+      threads > 1 && boxes.size() >= kParallelBoxes ? 16 * static_cast<std::size_t>(threads) : 1;
+  if (chunk_pairs_.size() < chunks) chunk_pairs_.resize(chunks);
+  chunk_tests_.assign(chunks, {0});
+  parallel::forEachTask(static_cast<std::ptrdiff_t>(chunks), threads, [&](std::ptrdiff_t chunk) {
+    const auto c = static_cast<std::size_t>(chunk);
+    chunk_pairs_[c].value.clear();
+    const int first = static_cast<int>(static_cast<std::size_t>(cells) * c / chunks);
+    const int last = static_cast<int>(static_cast<std::size_t>(cells) * (c + 1) / chunks);
+    for (int cell = first; cell < last; ++cell)
+      sweepCell(cell, chunk_pairs_[c].value, chunk_tests_[c].value);
+  });
+  if (chunks == 1)
+    pairs_.swap(chunk_pairs_[0].value);  // pairs_ was cleared: no copy
+  else
+    for (std::size_t c = 0; c < chunks; ++c)
+      pairs_.insert(pairs_.end(), chunk_pairs_[c].value.begin(), chunk_pairs_[c].value.end());
+  for (const auto& tests : chunk_tests_) tests_ += tests.value;
   sortPairs(static_cast<int>(boxes.size()));
 }
 

@@ -28,14 +28,16 @@
 #include <vector>
 
 #include "collision/aabb.hpp"
+#include "parallel/task_output.hpp"
 
 namespace linx::collision {
 
 class SweepAndPrune {
  public:
   /// Find all overlapping pairs of boxes (indices into boxes). Boxes must not contain NaN to be
-  /// reported (a box with NaN overlaps nothing); infinite bounds are allowed.
-  void update(std::span<const Aabb> boxes);
+  /// reported (a box with NaN overlaps nothing); infinite bounds are allowed. The columns are
+  /// swept by up to `threads` threads; the pairs are the same, in the same order, for any count.
+  void update(std::span<const Aabb> boxes, int threads = 1);
 
   /// Each overlapping pair once, (i, j) with i < j, sorted lexicographically.
   const std::vector<std::pair<int, int>>& pairs() const { return pairs_; }
@@ -67,6 +69,7 @@ class SweepAndPrune {
   int cellOf(int q, double x) const;
   void setCellCounts(int count_b, int count_c);  // column index along cell axis q (monotone in x)
   void sortPairs(int n);
+  void sweepCell(int cell, std::vector<std::pair<int, int>>& out, std::size_t& tests) const;
 
   std::vector<Key> keys_;
   std::vector<Entry> entries_;
@@ -75,6 +78,8 @@ class SweepAndPrune {
   std::vector<std::pair<int, int>> pairs_;
   std::vector<std::pair<int, int>> sorted_;  // sortPairs' output, swapped with pairs_
   std::vector<int> pair_start_;              // sortPairs' buckets, by first index
+  std::vector<parallel::TaskOutput<std::vector<std::pair<int, int>>>> chunk_pairs_;  // per run
+  std::vector<parallel::TaskOutput<std::size_t>> chunk_tests_;  // of columns swept
   int axis_ = -1;
   std::array<int, 2> cell_axis_{1, 2};
   std::array<int, 2> cell_count_{1, 1};

@@ -182,14 +182,15 @@ class Reader {
     const Node node{root, ""};
     if (!root.is_object())
       fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
-    allowOnly(node, {"gravity", "timestep", "duration", "solver", "contact", "sleep", "bodies",
-                     "joints"});
+    allowOnly(node, {"gravity", "timestep", "duration", "threads", "solver", "contact", "sleep",
+                     "bodies", "joints"});
 
     Scene scene;
     scene.file = file_;
     if (auto n = get(node, "gravity")) scene.settings.gravity = vec3(*n);
     if (auto n = get(node, "timestep")) scene.settings.timestep = positive(*n);
     if (auto n = get(node, "duration")) scene.duration = positive(*n);
+    if (auto n = get(node, "threads")) scene.settings.threads = integer(*n, 0);
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
     if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);
     if (auto n = get(node, "sleep")) scene.settings.sleep = sleep(*n);

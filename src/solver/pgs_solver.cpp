@@ -1,27 +1,95 @@
 #include "solver/pgs_solver.hpp"
 
+#include "parallel/parallel_for.hpp"
 #include "solver/row_system.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+
+#include <omp.h>
 
 namespace linx::solver {
+
+namespace {
+/// Problems of at least this many rows are swept colour by colour (see pgs_solver.hpp). Below it
+/// the sweep keeps the rows' own order: colouring would cost more than a second thread saves.
+constexpr std::size_t kColourRows = 4096;
+constexpr int kColours = 64;  // per phase; rows that find no free colour are swept serially
+}  // namespace
+
+void PgsSolver::planSweep(Problem& p) {
+  const std::size_t n = p.rows.size();
+  order_.resize(n);
+  groups_.clear();
+  if (n < kColourRows) {
+    for (std::size_t k = 0; k < n; ++k) order_[k] = static_cast<int>(k);
+    groups_.push_back(Group{0, static_cast<int>(n), false});
+    return;
+  }
+  // Greedy colouring, one phase for the normal and bilateral rows and one for the friction rows
+  // (a sweep settles the normal impulses before friction, whose bounds follow them, as the
+  // unordered sweep does). Within a phase, colour c holds rows that share no movable body.
+  taken_.resize(p.bodies.size());
+  colour_of_.resize(n);
+  std::size_t pos = 0;
+  for (const bool friction : {false, true}) {
+    std::fill(taken_.begin(), taken_.end(), std::uint64_t{0});
+    std::array<int, kColours + 1> count{};
+    for (std::size_t k = 0; k < n; ++k) {
+      const Row& r = p.rows[k];
+      if ((r.kind == RowKind::Friction) != friction) continue;
+      std::uint64_t used = 0;
+      if (r.body_a >= 0) used |= taken_[static_cast<std::size_t>(r.body_a)];
+      if (r.body_b >= 0) used |= taken_[static_cast<std::size_t>(r.body_b)];
+      const int colour = used == ~std::uint64_t{0} ? kColours : std::countr_one(used);
+      colour_of_[k] = colour;
+      ++count[static_cast<std::size_t>(colour)];
+      if (colour == kColours) continue;
+      const std::uint64_t bit = std::uint64_t{1} << colour;
+      if (r.body_a >= 0) taken_[static_cast<std::size_t>(r.body_a)] |= bit;
+      if (r.body_b >= 0) taken_[static_cast<std::size_t>(r.body_b)] |= bit;
+    }
+    std::array<int, kColours + 1> fill{};
+    for (int c = 0; c <= kColours; ++c) {
+      fill[static_cast<std::size_t>(c)] = static_cast<int>(pos);
+      const int size = count[static_cast<std::size_t>(c)];
+      if (size > 0) groups_.push_back(Group{static_cast<int>(pos), size, c < kColours});
+      pos += static_cast<std::size_t>(size);
+    }
+    for (std::size_t k = 0; k < n; ++k)
+      if ((p.rows[k].kind == RowKind::Friction) == friction)
+        order_[static_cast<std::size_t>(fill[static_cast<std::size_t>(colour_of_[k])]++)] =
+            static_cast<int>(k);
+  }
+}
 
 SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   SolverReport report;
   const std::size_t n = p.rows.size();
   report.rows = static_cast<int>(n);
   if (n == 0) return report;
+  const int threads = std::max(1, p.threads);
+  planSweep(p);
 
-  // Gather: velocities (one extra slot, always zero, for "no body") and compact rows.
+  // Gather: velocities (one extra slot, always zero, for "no body") and compact rows, in sweep
+  // order, with each friction row's normal row as a sweep position.
   const int none = static_cast<int>(p.bodies.size());
   velocities_.resize(p.bodies.size() + 1);
   for (std::size_t i = 0; i < p.bodies.size(); ++i) velocities_[i] = {p.bodies[i].v, p.bodies[i].w};
   velocities_.back() = Velocity{};
+  position_.resize(n);
+  for (std::size_t pos = 0; pos < n; ++pos)
+    position_[static_cast<std::size_t>(order_[pos])] = static_cast<int>(pos);
   rows_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const Row& r = p.rows[k];
-    CompactRow& c = rows_[k];
+  lambda_.resize(n);
+  const auto signed_n = static_cast<std::ptrdiff_t>(n);
+  parallel::forEach(signed_n, threads, kColourRows, [&](std::ptrdiff_t ip) {
+    const auto pos = static_cast<std::size_t>(ip);
+    const Row& r = p.rows[static_cast<std::size_t>(order_[pos])];
+    CompactRow& c = rows_[pos];
     c.ja_v = r.Ja.head<3>();
     c.ja_w = r.Ja.tail<3>();
     c.jb_v = r.Jb.head<3>();
@@ -54,10 +122,11 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     c.lo = r.lo;
     c.hi = r.hi;
     c.mu = r.mu;
-    c.normal = r.kind == RowKind::Friction ? r.normal : -1;
-  }
+    c.normal = r.kind == RowKind::Friction ? position_[static_cast<std::size_t>(r.normal)] : -1;
+    lambda_[pos] = p.lambda[static_cast<std::size_t>(order_[pos])];
+  });
 
-  double* lambda = p.lambda.data();
+  double* lambda = lambda_.data();
   const auto bounds = [&](const CompactRow& c, double& lo, double& hi) {
     if (c.normal >= 0) {
       hi = c.mu * std::max(0.0, lambda[c.normal]);
@@ -90,37 +159,80 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     if (lambda[k] != 0.0) apply(rows_[k], lambda[k]);
   }
 
+  // One row's update; returns its violation before the update, without a branch: |w| for a free
+  // impulse, the part of w that pushes away from a bound the impulse sits at, and for an impulse
+  // outside its (moved) bounds the distance to them in slack units. All are |next - l| / A_kk for
+  // omega = 1. A row touching no movable body has inv_diag = 0 and never changes.
   const double omega = settings.sor;
+  const auto relax = [&](std::size_t k) {
+    const CompactRow& c = rows_[k];
+    double lo, hi;
+    bounds(c, lo, hi);
+    const double l = lambda[k];
+    const double w = slack(c, l);
+    const double next = std::clamp(l - omega * w * c.inv_diag, lo, hi);
+    lambda[k] = next;
+    apply(c, next - l);
+    return std::abs(next - l) * c.diag;
+  };
+
+  // Sweeps alternate direction (symmetric Gauss-Seidel): a one-way sweep leaves a bias towards
+  // the rows it visits last, which tilts a symmetric pile of contacts. A backward sweep visits the
+  // groups in reverse, and a serial group's rows in reverse. The rows of a colour share no body:
+  // the threads split them, and the result is the same for any number of threads.
   report.converged = false;
-  for (int it = 0; it < settings.iterations; ++it) {
-    double sweep_violation = 0.0;  // of each row as it is visited, before its update
-    // Sweeps alternate direction (symmetric Gauss-Seidel): a one-way sweep leaves a bias
-    // towards the rows it visits last, which tilts a symmetric pile of contacts.
-    const bool forward = it % 2 == 0;
-    for (std::size_t visit = 0; visit < n; ++visit) {
-      const std::size_t k = forward ? visit : n - 1 - visit;
-      const CompactRow& c = rows_[k];
-      double lo, hi;
-      bounds(c, lo, hi);
-      const double l = lambda[k];
-      const double w = slack(c, l);
-      const double next = std::clamp(l - omega * w * c.inv_diag, lo, hi);
-      // The row's violation before its update, without a branch: |w| for a free impulse, the
-      // part of w that pushes away from a bound the impulse sits at, and for an impulse outside
-      // its (moved) bounds the distance to them in slack units. All are |next - l| / A_kk for
-      // omega = 1. A row touching no movable body has inv_diag = 0 and never changes.
-      sweep_violation = std::max(sweep_violation, std::abs(next - l) * c.diag);
-      lambda[k] = next;
-      apply(c, next - l);
+  const int iterations = settings.iterations;
+  if (n < kColourRows) {
+    for (int it = 0; it < iterations; ++it) {
+      const bool forward = it % 2 == 0;
+      double sweep_violation = 0.0;  // of each row as it is visited, before its update
+      for (std::size_t visit = 0; visit < n; ++visit)
+        sweep_violation = std::max(sweep_violation, relax(forward ? visit : n - 1 - visit));
+      report.iterations = it + 1;
+      if (sweep_violation <= settings.tolerance) {
+        report.converged = true;
+        break;
+      }
     }
-    report.iterations = it + 1;
-    if (sweep_violation <= settings.tolerance) {
-      report.converged = true;
-      break;
+  } else {
+    const auto group_count = static_cast<std::ptrdiff_t>(groups_.size());
+    thread_violation_.assign(static_cast<std::size_t>(threads), 0.0);
+    bool stop = false;
+#pragma omp parallel num_threads(threads)
+    for (int it = 0; it < iterations; ++it) {
+      const bool forward = it % 2 == 0;
+      double sweep_violation = 0.0;
+      for (std::ptrdiff_t visit = 0; visit < group_count; ++visit) {
+        const Group& g =
+            groups_[static_cast<std::size_t>(forward ? visit : group_count - 1 - visit)];
+        if (g.parallel) {
+#pragma omp for schedule(static)
+          for (int j = g.begin; j < g.begin + g.size; ++j)
+            sweep_violation = std::max(sweep_violation, relax(static_cast<std::size_t>(j)));
+        } else {
+#pragma omp single
+          for (int j = 0; j < g.size; ++j) {
+            const int k = forward ? g.begin + j : g.begin + g.size - 1 - j;
+            sweep_violation = std::max(sweep_violation, relax(static_cast<std::size_t>(k)));
+          }
+        }
+      }
+      thread_violation_[static_cast<std::size_t>(omp_get_thread_num())] = sweep_violation;
+#pragma omp barrier
+#pragma omp single
+      {
+        report.iterations = it + 1;
+        stop = *std::max_element(thread_violation_.begin(), thread_violation_.end()) <=
+               settings.tolerance;
+        report.converged = stop;
+      }
+      if (stop) break;  // read by every thread after the single's barrier: all leave together
     }
   }
 
-  // Scatter the velocities; the residual is measured with them.
+  // Scatter the impulses and velocities; the residual is measured with them.
+  for (std::size_t pos = 0; pos < n; ++pos)
+    p.lambda[static_cast<std::size_t>(order_[pos])] = lambda[pos];
   for (std::size_t i = 0; i < p.bodies.size(); ++i) {
     p.bodies[i].v = velocities_[i].v;
     p.bodies[i].w = velocities_[i].w;

@@ -28,6 +28,7 @@ struct Problem {
   std::span<SolverBody> bodies;
   std::span<double> lambda;
   double h = 0.0;
+  int threads = 1;  ///< worker threads the solver may use; results do not depend on it
 };
 
 /// A solver keeps only work buffers between calls; its settings come with each solve.

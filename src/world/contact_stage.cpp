@@ -6,11 +6,17 @@
 
 #include "collision/aabb.hpp"
 #include "collision/geometry.hpp"
+#include "parallel/parallel_for.hpp"
 #include "world/assembly.hpp"
 
 namespace linx::world {
 
 namespace {
+/// Pairs for the narrowphase to split over threads (fewer are done on the calling thread).
+constexpr std::size_t kParallelPairs = 1024;
+/// Contacts for appendRows and store to split over threads.
+constexpr std::ptrdiff_t kParallelContacts = 1024;
+
 /// Identity of a contact across steps: bit 63 (a contact, not a joint), the two global shape
 /// indices and the feature id; the low two bits stay free for the row slot.
 std::uint64_t contactKey(int shape_a, int shape_b, std::uint32_t feature) {
@@ -62,6 +68,20 @@ double sweep(const Body& body, const collision::Aabb& box, double h) {
   return h * (body.linearVelocity().norm() + body.angularVelocity().norm() * reach);
 }
 
+/// The box a shape covers during a step: its box now joined with where its linear velocity takes
+/// it, grown by what its spin adds and by half the speculative margin (two boxes grown by half
+/// overlap within the whole margin). Far tighter than growing the box by the whole sweep in every
+/// direction: spheres falling side by side have boxes that overlap only where they could meet.
+collision::Aabb sweptBox(const Body& body, const collision::Aabb& tight, double h, double margin) {
+  if (body.isStatic()) return tight.expanded(0.5 * margin);
+  const Vec3 d = h * body.linearVelocity();
+  const double arm = (tight.centre() - body.position()).norm() + 0.5 * tight.extent().norm();
+  const double spin = h * body.angularVelocity().norm() * arm;
+  const collision::Aabb swept{tight.min + d.cwiseMin(Vec3::Zero()),
+                              tight.max + d.cwiseMax(Vec3::Zero())};
+  return swept.expanded(0.5 * margin + spin);
+}
+
 /// Whether a point found within the swept margin can matter this step: it touches, lies within
 /// the speculative margin, or a body moves toward the other fast enough to close the gap in one
 /// step, even if the other stopped dead (gravity is in the velocities already). The swept margin
@@ -99,7 +119,7 @@ void ContactStage::touching(int body, std::vector<int>& out) const {
 
 void ContactStage::detect(std::span<const Body> bodies,
                           std::span<const std::unique_ptr<Joint>> joints,
-                          const ContactSettings& settings, double h) {
+                          const ContactSettings& settings, double h, int threads) {
   records_.clear();
   match_distance_ = settings.margin;
   if (!settings.enabled || geometry_.empty()) return;
@@ -112,7 +132,7 @@ void ContactStage::detect(std::span<const Body> bodies,
   }
   std::sort(joined_.begin(), joined_.end());
 
-  // Broadphase over every shape, boxes grown by the margin and the step's sweep.
+  // Broadphase over every shape's swept box.
   boxes_.resize(geometry_.size());
   std::vector<double>& reach = reach_;
   reach.resize(geometry_.size());
@@ -124,65 +144,88 @@ void ContactStage::detect(std::span<const Body> bodies,
     poses_[s] = shapePose(body, shape);
     const collision::Aabb tight = collision::shapeAabb(shape, body.pose());
     reach[s] = sweep(body, tight, h);
-    boxes_[s] = tight.expanded(0.5 * settings.margin + reach[s]);
+    boxes_[s] = sweptBox(body, tight, h, settings.margin);
   }
-  broadphase_.update(boxes_);
+  broadphase_.update(boxes_, threads);
 
-  for (const auto& [i, j] : broadphase_.pairs()) {
-    const int body_i = shape_body_[static_cast<std::size_t>(i)];
-    const int body_j = shape_body_[static_cast<std::size_t>(j)];
-    if (body_i == body_j) continue;
-    const Body& bi = bodies[static_cast<std::size_t>(body_i)];
-    const Body& bj = bodies[static_cast<std::size_t>(body_j)];
-    if (bi.isStatic() && bj.isStatic()) continue;
-    const int local_i = i - first_shape_[static_cast<std::size_t>(body_i)];
-    const int local_j = j - first_shape_[static_cast<std::size_t>(body_j)];
-    const ShapeDef& si = bi.shapes()[static_cast<std::size_t>(local_i)];
-    const ShapeDef& sj = bj.shapes()[static_cast<std::size_t>(local_j)];
-    if ((si.group & sj.mask) == 0 || (sj.group & si.mask) == 0) continue;
-    if (std::binary_search(joined_.begin(), joined_.end(),
-                           std::pair{std::min(body_i, body_j), std::max(body_i, body_j)}))
-      continue;
+  // Narrowphase, pair by pair. Large sets of pairs are cut into consecutive chunks that threads
+  // work on apart; joined in chunk order, the records come out in pair order for any thread count.
+  const auto& pairs = broadphase_.pairs();
+  const std::size_t chunks =
+      threads > 1 && pairs.size() >= kParallelPairs ? 16 * static_cast<std::size_t>(threads) : 1;
+  if (chunk_records_.size() < chunks) chunk_records_.resize(chunks);
+  if (chunk_points_.size() < chunks) chunk_points_.resize(chunks);
+  parallel::forEachTask(static_cast<std::ptrdiff_t>(chunks), threads, [&](std::ptrdiff_t c) {
+    const std::size_t begin = pairs.size() * static_cast<std::size_t>(c) / chunks;
+    const std::size_t end = pairs.size() * static_cast<std::size_t>(c + 1) / chunks;
+    std::vector<ContactRecord>& out = chunk_records_[static_cast<std::size_t>(c)].value;
+    out.clear();
+    for (std::size_t k = begin; k < end; ++k)
+      collidePair(bodies, settings, h, pairs[k].first, pairs[k].second,
+                  chunk_points_[static_cast<std::size_t>(c)].value, out);
+  });
+  for (std::size_t c = 0; c < chunks; ++c)
+    records_.insert(records_.end(), chunk_records_[c].value.begin(), chunk_records_[c].value.end());
+}
 
-    const collision::ShapeInstance a{&si, geometry_[static_cast<std::size_t>(i)].get(),
-                                     poses_[static_cast<std::size_t>(i)]};
-    const collision::ShapeInstance b{&sj, geometry_[static_cast<std::size_t>(j)].get(),
-                                     poses_[static_cast<std::size_t>(j)]};
-    const double margin =
-        settings.margin + reach[static_cast<std::size_t>(i)] + reach[static_cast<std::size_t>(j)];
-    points_.clear();
-    collision::collide(a, b, margin, points_);
-    const joints::ContactLaw law = combine(si, sj, settings, h);
-    for (const collision::ContactPoint& p : points_) {
-      if (!mayTouch(bi, bj, p, settings.margin, h)) continue;
-      ContactRecord r;
-      r.body_a = body_i;
-      r.body_b = body_j;
-      r.shape_a = local_i;
-      r.shape_b = local_j;
-      r.point = p;
-      r.law = law;
-      r.key = contactKey(i, j, p.feature);
-      r.pair = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
-      records_.push_back(r);
-    }
+void ContactStage::collidePair(std::span<const Body> bodies, const ContactSettings& settings,
+                               double h, int i, int j, std::vector<collision::ContactPoint>& points,
+                               std::vector<ContactRecord>& out) const {
+  const int body_i = shape_body_[static_cast<std::size_t>(i)];
+  const int body_j = shape_body_[static_cast<std::size_t>(j)];
+  if (body_i == body_j) return;
+  const Body& bi = bodies[static_cast<std::size_t>(body_i)];
+  const Body& bj = bodies[static_cast<std::size_t>(body_j)];
+  if (bi.isStatic() && bj.isStatic()) return;
+  const int local_i = i - first_shape_[static_cast<std::size_t>(body_i)];
+  const int local_j = j - first_shape_[static_cast<std::size_t>(body_j)];
+  const ShapeDef& si = bi.shapes()[static_cast<std::size_t>(local_i)];
+  const ShapeDef& sj = bj.shapes()[static_cast<std::size_t>(local_j)];
+  if ((si.group & sj.mask) == 0 || (sj.group & si.mask) == 0) return;
+  if (std::binary_search(joined_.begin(), joined_.end(),
+                         std::pair{std::min(body_i, body_j), std::max(body_i, body_j)}))
+    return;
+
+  const collision::ShapeInstance a{&si, geometry_[static_cast<std::size_t>(i)].get(),
+                                   poses_[static_cast<std::size_t>(i)]};
+  const collision::ShapeInstance b{&sj, geometry_[static_cast<std::size_t>(j)].get(),
+                                   poses_[static_cast<std::size_t>(j)]};
+  const double margin =
+      settings.margin + reach_[static_cast<std::size_t>(i)] + reach_[static_cast<std::size_t>(j)];
+  points.clear();
+  collision::collide(a, b, margin, points);
+  const joints::ContactLaw law = combine(si, sj, settings, h);
+  for (const collision::ContactPoint& p : points) {
+    if (!mayTouch(bi, bj, p, settings.margin, h)) continue;
+    ContactRecord r;
+    r.body_a = body_i;
+    r.body_b = body_j;
+    r.shape_a = local_i;
+    r.shape_b = local_j;
+    r.point = p;
+    r.law = law;
+    r.key = contactKey(i, j, p.feature);
+    r.pair = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+    out.push_back(r);
   }
 }
 
 void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
-                              std::vector<double>& lambda, bool warm_start) {
+                              std::vector<double>& lambda, bool warm_start, int threads) {
   // All normal rows first, then all friction rows: a Gauss-Seidel sweep then settles the normal
   // impulses of a whole pile before friction, whose bounds follow them, is solved against them.
+  // Each contact writes its own three rows, so the contacts are split over the threads.
   const std::size_t first_normal = rows.size();
   const std::size_t first_friction = first_normal + records_.size();
   rows.resize(first_normal + 3 * records_.size());
   lambda.resize(rows.size(), 0.0);
-  std::array<Row, 3> made;
-  for (std::size_t c = 0; c < records_.size(); ++c) {
+  const auto count = static_cast<std::ptrdiff_t>(records_.size());
+  parallel::forEach(count, threads, kParallelContacts, [&](std::ptrdiff_t index) {
+    const auto c = static_cast<std::size_t>(index);
     ContactRecord& r = records_[c];
     const Body& a = bodies[static_cast<std::size_t>(r.body_a)];
     const Body& b = bodies[static_cast<std::size_t>(r.body_b)];
-    made.fill(Row{});
+    std::array<Row, 3> made;
     joints::contactRows(r.point, stateOf(bodies, BodyId{r.body_a}),
                         stateOf(bodies, BodyId{r.body_b}), r.law, h, made, r.t1, r.t2);
     r.row = static_cast<int>(first_normal + c);
@@ -204,15 +247,17 @@ void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vecto
         lambda[at[2]] = old->friction.dot(r.t2);  // on the new tangents
       }
     }
-  }
+  });
 }
 
 const ContactStage::Impulse* ContactStage::previousImpulse(const ContactRecord& r,
                                                            const Body& a) const {
-  if (const auto it = cache_.find(r.key); it != cache_.end()) return &it->second;
+  // The same point (key) if the pair had it, else the pair's nearest point within the margin.
   const auto [first, last] =
-      std::equal_range(previous_.begin(), previous_.end(), Previous{r.pair, {}, {}},
+      std::equal_range(previous_.begin(), previous_.end(), Previous{r.pair, 0, {}, {}},
                        [](const Previous& x, const Previous& y) { return x.pair < y.pair; });
+  for (auto it = first; it != last; ++it)
+    if (it->key == r.key) return &it->impulse;
   const Vec3 local = a.pose().toLocal(r.point.point);
   const Impulse* best = nullptr;
   double best_distance = match_distance_;
@@ -226,22 +271,28 @@ const ContactStage::Impulse* ContactStage::previousImpulse(const ContactRecord& 
   return best;
 }
 
-void ContactStage::store(std::span<const Body> bodies, std::span<const double> lambda) {
-  cache_.clear();
-  previous_.clear();
-  contacts_.clear();
-  for (const ContactRecord& r : records_) {
-    if (r.row < 0) continue;
-    const auto k = static_cast<std::size_t>(r.row);
-    const auto f = static_cast<std::size_t>(r.friction_row);
-    const Impulse impulse{lambda[k], lambda[f] * r.t1 + lambda[f + 1] * r.t2};
-    cache_[r.key] = impulse;
-    previous_.push_back(Previous{
-        r.pair, bodies[static_cast<std::size_t>(r.body_a)].pose().toLocal(r.point.point), impulse});
-    contacts_.push_back(Contact{BodyId{r.body_a}, BodyId{r.body_b}, r.shape_a, r.shape_b,
-                                r.point.point, r.point.normal, r.point.depth, impulse.normal,
-                                impulse.friction, r.point.feature});
-  }
+void ContactStage::store(std::span<const Body> bodies, std::span<const double> lambda,
+                         int threads) {
+  // Records are in shape-pair order (the broadphase's), so previous_ comes out sorted by pair.
+  stored_.clear();
+  for (std::size_t c = 0; c < records_.size(); ++c)
+    if (records_[c].row >= 0) stored_.push_back(static_cast<int>(c));
+  previous_.resize(stored_.size());
+  contacts_.resize(stored_.size());
+  parallel::forEach(
+      static_cast<std::ptrdiff_t>(stored_.size()), threads, kParallelContacts,
+      [&](std::ptrdiff_t index) {
+        const auto out = static_cast<std::size_t>(index);
+        const ContactRecord& r = records_[static_cast<std::size_t>(stored_[out])];
+        const auto k = static_cast<std::size_t>(r.row);
+        const auto f = static_cast<std::size_t>(r.friction_row);
+        const Impulse impulse{lambda[k], lambda[f] * r.t1 + lambda[f + 1] * r.t2};
+        const Pose& pose = bodies[static_cast<std::size_t>(r.body_a)].pose();
+        previous_[out] = Previous{r.pair, r.key, pose.toLocal(r.point.point), impulse};
+        contacts_[out] = Contact{BodyId{r.body_a}, BodyId{r.body_b}, r.shape_a,     r.shape_b,
+                                 r.point.point,    r.point.normal,   r.point.depth, impulse.normal,
+                                 impulse.friction, r.point.feature};
+      });
 }
 
 }  // namespace linx::world

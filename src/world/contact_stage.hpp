@@ -16,13 +16,13 @@
 #include <cstdint>
 #include <memory>
 #include <span>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "collision/broadphase.hpp"
 #include "collision/narrowphase.hpp"
 #include "joints/contact_joint.hpp"
+#include "parallel/task_output.hpp"
 
 namespace linx::world {
 
@@ -45,16 +45,17 @@ class ContactStage {
   /// Throws std::invalid_argument for shapes that cannot be prepared.
   void addBody(const Body& body);
 
-  /// Finds this step's contact points from the bodies' current poses and velocities.
+  /// Finds this step's contact points from the bodies' current poses and velocities, the
+  /// narrowphase split over `threads` (the records are the same for any count).
   void detect(std::span<const Body> bodies, std::span<const std::unique_ptr<Joint>> joints,
-              const ContactSettings& settings, double h);
+              const ContactSettings& settings, double h, int threads = 1);
 
   /// Appends three rows per contact (normal, two friction) and their warm-start impulses.
   void appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
-                  std::vector<double>& lambda, bool warm_start);
+                  std::vector<double>& lambda, bool warm_start, int threads = 1);
 
   /// Keeps the solved impulses for the next step's warm start and the contacts() report.
-  void store(std::span<const Body> bodies, std::span<const double> lambda);
+  void store(std::span<const Body> bodies, std::span<const double> lambda, int threads = 1);
 
   std::span<const ContactRecord> records() const { return records_; }
   /// Appends the bodies that touched `body` in the last step.
@@ -75,18 +76,26 @@ class ContactStage {
   std::vector<double> reach_;  // per shape: how far its points travel in the step (m)
   collision::SweepAndPrune broadphase_;
   std::vector<std::pair<int, int>> joined_;  // body pairs joined by a non-colliding joint, sorted
-  std::vector<collision::ContactPoint> points_;
+  // The narrowphase of shape pair (i, j): appends its records to out (points: scratch).
+  void collidePair(std::span<const Body> bodies, const ContactSettings& settings, double h, int i,
+                   int j, std::vector<collision::ContactPoint>& points,
+                   std::vector<ContactRecord>& out) const;
+  // Per chunk of pairs: scratch points and the records found.
+  std::vector<parallel::TaskOutput<std::vector<collision::ContactPoint>>> chunk_points_;
+  std::vector<parallel::TaskOutput<std::vector<ContactRecord>>> chunk_records_;
   std::vector<ContactRecord> records_;
   std::vector<Contact> contacts_;
-  std::unordered_map<std::uint64_t, Impulse> cache_;  // by record key, from the last step
-  // The last step's points by shape pair (sorted), in body a's frame: a point whose feature id
-  // changed (a manifold that switched its reference face) is matched to the nearest old point.
+  // The last step's points by shape pair (sorted), in body a's frame: a point is matched by its
+  // key, and a point whose feature id changed (a manifold that switched its reference face) to
+  // the nearest old point of its pair.
   struct Previous {
     std::uint64_t pair;
+    std::uint64_t key;
     Vec3 local;
     Impulse impulse;
   };
   std::vector<Previous> previous_;
+  std::vector<int> stored_;  // store(): the records that got rows
   const Impulse* previousImpulse(const ContactRecord& r, const Body& a) const;
   double match_distance_ = 0.0;
 };

@@ -1,9 +1,16 @@
 #include "world/island_solver.hpp"
 
+#include "parallel/parallel_for.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 
 namespace linx::world {
+
+namespace {
+/// Rows of an island from which its gather is split over the threads.
+constexpr std::ptrdiff_t kParallelRows = 4096;
+}  // namespace
 
 void rowLinks(std::span<const Row> rows, std::vector<std::pair<int, int>>& links) {
   links.resize(rows.size());
@@ -13,7 +20,7 @@ void rowLinks(std::span<const Row> rows, std::vector<std::pair<int, int>>& links
 SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> island_awake,
                           std::span<const Row> rows, std::span<solver::SolverBody> bodies,
                           std::span<double> lambda, double h, solver::ConstraintSolver& solver,
-                          const SolverSettings& settings, IslandWorkspace& work) {
+                          const SolverSettings& settings, IslandWorkspace& work, int threads) {
   const int body_count = islands.bodyCount();
   const int count = islands.count();
   const std::size_t n = rows.size();
@@ -79,20 +86,29 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
     for (std::size_t j = 0; j < m; ++j)
       work.local_row[static_cast<std::size_t>(begin[static_cast<std::ptrdiff_t>(j)])] =
           static_cast<int>(j);
-    for (std::size_t j = 0; j < m; ++j) {
-      const auto k = static_cast<std::size_t>(begin[static_cast<std::ptrdiff_t>(j)]);
-      Row& r = work.rows[j];
-      r = rows[k];
-      r.body_a = local(r.body_a);
-      r.body_b = local(r.body_b);
-      if (r.normal >= 0) r.normal = work.local_row[static_cast<std::size_t>(r.normal)];
-      work.lambda[j] = lambda[k];
+    for (std::size_t j = 0; j < m; ++j) {  // number the bodies first, in row order
+      const Row& r = rows[static_cast<std::size_t>(begin[static_cast<std::ptrdiff_t>(j)])];
+      local(r.body_a);
+      local(r.body_b);
     }
+    parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows,
+                      [&](std::ptrdiff_t j) {  // then copy the rows, each to its own slot
+                        const auto k = static_cast<std::size_t>(begin[j]);
+                        Row& r = work.rows[static_cast<std::size_t>(j)];
+                        r = rows[k];
+                        if (r.body_a >= 0)
+                          r.body_a = work.local_body[static_cast<std::size_t>(r.body_a)];
+                        if (r.body_b >= 0)
+                          r.body_b = work.local_body[static_cast<std::size_t>(r.body_b)];
+                        if (r.normal >= 0)
+                          r.normal = work.local_row[static_cast<std::size_t>(r.normal)];
+                        work.lambda[static_cast<std::size_t>(j)] = lambda[k];
+                      });
     work.bodies.resize(work.gathered.size());
     for (std::size_t l = 0; l < work.gathered.size(); ++l)
       work.bodies[l] = bodies[static_cast<std::size_t>(work.gathered[l])];
 
-    solver::Problem problem{work.rows, work.bodies, work.lambda, h};
+    solver::Problem problem{work.rows, work.bodies, work.lambda, h, threads};
     const SolverReport report = solver.solve(problem, settings);
 
     // Scatter.

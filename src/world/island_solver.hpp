@@ -47,11 +47,12 @@ struct IslandWorkspace {
 /// lambda: one per row; on entry the warm start, on exit the impulses. Rows of islands that are
 ///   not awake get lambda 0 and their bodies are left untouched.
 /// island_awake: one flag per island (islands.count()), or empty for all awake.
+/// `threads` go to each island's solve (Problem::threads).
 /// Returns the islands' reports merged: rows summed over the solved islands, iterations and
 /// residual the largest, redundant rows summed, converged if every island converged.
 SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> island_awake,
                           std::span<const Row> rows, std::span<solver::SolverBody> bodies,
                           std::span<double> lambda, double h, solver::ConstraintSolver& solver,
-                          const SolverSettings& settings, IslandWorkspace& work);
+                          const SolverSettings& settings, IslandWorkspace& work, int threads = 1);
 
 }  // namespace linx::world

@@ -15,6 +15,7 @@
 
 #include "dynamics/energy.hpp"
 #include "dynamics/integrator.hpp"
+#include "parallel/parallel_for.hpp"
 #include "solver/problem.hpp"
 #include "world/assembly.hpp"
 #include "world/contact_stage.hpp"
@@ -31,6 +32,11 @@
 #include <unordered_map>
 
 namespace linx {
+
+namespace {
+/// Bodies from which the per-body stages of a step are split over the threads.
+constexpr std::ptrdiff_t kParallelBodies = 4096;
+}  // namespace
 
 struct World::Impl {
   std::vector<Row> rows;
@@ -142,6 +148,7 @@ BodyState World::bodyState(BodyId id) const {
 void World::step() {
   const double h = settings_.timestep;
   if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("timestep: must be > 0");
+  if (settings_.threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: one per core)");
   const int substeps = std::max(1, settings_.solver.substeps);
   try {
     for (int s = 0; s < substeps; ++s) substep(h / substeps);
@@ -174,6 +181,7 @@ void World::step() {
 
 void World::substep(double h) {
   Impl& m = *impl_;
+  const int threads = parallel::resolveThreads(settings_.threads);
   const SleepSettings& sleep = settings_.sleep;
   auto awake = [&](std::size_t i) { return !m.sleep.asleep(static_cast<int>(i)); };
   // Something pushed or moved a sleeping body from outside: it wakes (with its island, below).
@@ -183,9 +191,15 @@ void World::substep(double h) {
                       !b.force().isZero(0) || !b.torque().isZero(0)))
       wakeWithNeighbours(static_cast<int>(i));
   }
+  // Per-body stages are split over the threads in large worlds (each body writes only itself).
+  const auto each_body = [&](auto&& body) {
+    parallel::forEach(static_cast<std::ptrdiff_t>(bodies_.size()), threads, kParallelBodies,
+                      [&](std::ptrdiff_t i) { body(static_cast<std::size_t>(i)); });
+  };
   // 1. velocities (sleeping bodies stay at rest)
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
+  each_body([&](std::size_t i) {
     if (awake(i)) dynamics::integrateVelocity(bodies_[i], settings_.gravity, h);
+  });
   // 2. assembly, 3. warm start: joint rows, then contact rows
   world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
   const std::size_t joint_rows = m.rows.size();
@@ -196,8 +210,8 @@ void World::substep(double h) {
       if (it != m.warm.end()) m.lambda[k] = it->second;
     }
   }
-  m.contact.detect(bodies_, joints_, settings_.contact, h);
-  m.contact.appendRows(bodies_, h, m.rows, m.lambda, settings_.solver.warm_start);
+  m.contact.detect(bodies_, joints_, settings_.contact, h, threads);
+  m.contact.appendRows(bodies_, h, m.rows, m.lambda, settings_.solver.warm_start, threads);
   // Islands: bodies linked by this step's rows. An island with an awake body wakes entirely; the
   // bodies it wakes get this step's velocity update too.
   world::rowLinks(m.rows, m.links);
@@ -213,18 +227,18 @@ void World::substep(double h) {
     if (m.was_asleep[i] && awake(i)) dynamics::integrateVelocity(bodies_[i], settings_.gravity, h);
   // 4. solve, island by island (sleeping islands are skipped)
   m.solver_bodies.resize(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  each_body([&](std::size_t i) {
     const Body& b = bodies_[i];
     m.solver_bodies[i] = solver::SolverBody{b.inverseMass(), b.inverseInertiaWorld(),
                                             b.linearVelocity(), b.angularVelocity()};
-  }
+  });
   if (!m.solver || m.solver_type != settings_.solver.type) {
     m.solver = solver::makeSolver(settings_.solver.type);
     m.solver_type = settings_.solver.type;
   }
   m.lambda0 = m.lambda;
   report_ = world::solveIslands(m.islands, island_awake, m.rows, m.solver_bodies, m.lambda, h,
-                                *m.solver, settings_.solver, m.island_work);
+                                *m.solver, settings_.solver, m.island_work, threads);
   // Sleeping islands keep the impulses they rested on, for when they wake.
   for (std::size_t k = 0; k < m.rows.size(); ++k) {
     const int island = m.island_work.row_island[k];
@@ -233,15 +247,14 @@ void World::substep(double h) {
   }
   m.warm.clear();
   for (std::size_t k = 0; k < joint_rows; ++k) m.warm[m.rows[k].key] = m.lambda[k];
-  m.contact.store(bodies_, m.lambda);
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    if (bodies_[i].isStatic() || !awake(i)) continue;
+  m.contact.store(bodies_, m.lambda, threads);
+  // 5. positions
+  each_body([&](std::size_t i) {
+    if (bodies_[i].isStatic() || !awake(i)) return;
     bodies_[i].setLinearVelocity(m.solver_bodies[i].v);
     bodies_[i].setAngularVelocity(m.solver_bodies[i].w);
-  }
-  // 5. positions
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
-    if (awake(i)) dynamics::integratePosition(bodies_[i], h);
+    dynamics::integratePosition(bodies_[i], h);
+  });
   // 6. projection
   if (settings_.solver.projection) {
     for (std::size_t i = 0; i < bodies_.size(); ++i) m.was_asleep[i] = !awake(i);

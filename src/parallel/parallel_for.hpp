@@ -1,0 +1,43 @@
+// Worker threads of a step, from OpenMP's pool. Every parallel loop of linx writes only the slots
+// of its own index, or merges per-chunk results in chunk order, so that results are the same to
+// the bit for any number of threads (docs/performance.md, "Threads").
+#pragma once
+
+#include <cstddef>
+
+#include <omp.h>
+
+namespace linx::parallel {
+
+/// The thread count to use for a request: itself when positive, else one per hardware thread.
+inline int resolveThreads(int requested) {
+  return requested > 0 ? requested : omp_get_num_procs();
+}
+
+/// Calls body(i) for every i in [0, n): split over `threads` threads in static chunks when n is at
+/// least `grain`, in order on the calling thread otherwise (a team costs microseconds to wake).
+/// body(i) must write only what belongs to i.
+template <class Body>
+void forEach(std::ptrdiff_t n, int threads, std::ptrdiff_t grain, Body&& body) {
+  if (threads <= 1 || n < grain) {
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+    return;
+  }
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+}
+
+/// Calls task(t) for every t in [0, tasks): coarse tasks of uneven cost (runs of broadphase
+/// columns, chunks of pairs), handed to whichever thread is free. task(t) must write only what
+/// belongs to t; the caller merges the tasks' results in task order.
+template <class Task>
+void forEachTask(std::ptrdiff_t tasks, int threads, Task&& task) {
+  if (threads <= 1 || tasks < 2) {
+    for (std::ptrdiff_t t = 0; t < tasks; ++t) task(t);
+    return;
+  }
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (std::ptrdiff_t t = 0; t < tasks; ++t) task(t);
+}
+
+}  // namespace linx::parallel
