@@ -31,6 +31,8 @@ class Engine {
   virtual void step() = 0;
   /// The pose of Scene::bodies[i] (static bodies included).
   virtual Pose pose(int i) const = 0;
+  /// Contact points of the last step, where the adapter can tell (for the memory figures).
+  virtual std::size_t contactCount() const { return 0; }
 };
 
 /// One engine with one set of solver settings, as a row of the table.
@@ -41,6 +43,9 @@ struct Variant {
   std::function<std::unique_ptr<Engine>(const Scene&)> make;
   /// The linx row that the table's time ratios of this scene are taken against.
   bool reference = false;
+  /// Worker threads (linx): a row with more than one is checked against the reference row for
+  /// identical results and its speed-up.
+  int threads = 1;
 };
 
 /// Variants of each engine compiled into this build. The peers' functions exist only when their

@@ -195,13 +195,46 @@ std::vector<Target> targets(const std::vector<Result>& results) {
     }
   }
   for (const auto& [key, lx] : linx_by_key) {
-    if (lx->scene == "spheres" && lx->size == "N=64000") {
-      const double per_body = lx->heap_peak_mib * 1024.0 * 1024.0 / lx->bodies;
-      out.push_back({per_body <= 1024.0, true,
-                     fmt::format("{}: peak heap {:.1f} MiB, {:.0f} bytes per body (contacts "
-                                 "included), below 1 KiB per body plus the contacts",
-                                 key, lx->heap_peak_mib, per_body)});
-    }
+    if (lx->scene != "spheres" || lx->size != "N=64000" || !lx->reference) continue;
+    // Two samples of the heap, after the first step and at the peak, split it into a part per
+    // body and a part per contact point: heap = bodies * b + contacts * c.
+    const double mib = 1024.0 * 1024.0;
+    const double contacts = static_cast<double>(lx->contacts_at_peak) - lx->contacts_first;
+    const double per_contact =
+        contacts > 0 ? (lx->heap_peak_mib - lx->heap_first_mib) * mib / contacts : 0.0;
+    const double per_body =
+        (lx->heap_first_mib * mib - per_contact * static_cast<double>(lx->contacts_first)) /
+        lx->bodies;
+    out.push_back({per_body <= 1024.0 && contacts > 0, true,
+                   fmt::format("{}: peak heap {:.1f} MiB with {} contact points; {:.1f} MiB after "
+                               "the first step with {}: {:.0f} bytes per body and {:.0f} per "
+                               "contact point; below 1 KiB per body plus the contacts",
+                               key, lx->heap_peak_mib, lx->contacts_at_peak, lx->heap_first_mib,
+                               lx->contacts_first, per_body, per_contact)});
+  }
+  // Threads: a row on several threads against the one-thread row of its scene.
+  for (const Result& many : results) {
+    if (!many.is_linx || many.threads <= 1 || !many.ran) continue;
+    const Result* one = linxOf(results, many);
+    if (!one || one->threads != 1) continue;
+    const std::size_t common = std::min(one->fingerprints.size(), many.fingerprints.size());
+    std::size_t same = 0;
+    while (same < common && one->fingerprints[same] == many.fingerprints[same]) ++same;
+    const bool identical = common > 0 && same == common;
+    const double speedup = one->median_ms / many.median_ms;
+    const std::string key = many.scene + " " + many.size;
+    const std::string what = identical
+                                 ? fmt::format("identical poses over all {} steps both ran", common)
+                                 : fmt::format("poses differ from step {}", same + 1);
+    if (many.scene == "spheres" && many.size == "N=64000")
+      out.push_back({speedup >= 1.7 && identical, true,
+                     fmt::format("{}, linx on {} threads: {:.2f} times as fast as on one, at "
+                                 "least 1.7; {}",
+                                 key, many.threads, speedup, what)});
+    else
+      out.push_back({identical, true,
+                     fmt::format("{}, linx on {} threads: {}; {:.2f} times as fast as on one", key,
+                                 many.threads, what, speedup)});
   }
   return out;
 }

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <vector>
 
@@ -24,6 +26,25 @@ double seconds(Clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
 
+/// FNV-1a over the bits of every pose: equal only if every coordinate is equal to the bit.
+std::uint64_t fingerprint(const Engine& engine, int bodies) {
+  std::uint64_t h = 14695981039346656037u;
+  const auto mix = [&](double x) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    for (int k = 0; k < 8; ++k) {
+      h ^= (bits >> (8 * k)) & 0xffu;
+      h *= 1099511628211u;
+    }
+  };
+  for (int i = 0; i < bodies; ++i) {
+    const Pose p = engine.pose(i);
+    for (int k = 0; k < 3; ++k) mix(p.position[k]);
+    for (int k = 0; k < 4; ++k) mix(p.orientation.coeffs()[k]);
+  }
+  return h;
+}
+
 }  // namespace
 
 Result run(const Scene& scene, const Variant& variant, double budget_s) {
@@ -36,6 +57,7 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
   r.reference = variant.reference;
   r.steps_planned = scene.steps;
   r.bodies = static_cast<int>(scene.bodies.size());
+  r.threads = variant.threads;
   try {
     const double heap0 = heapInUse();
     double heap_peak = heap0;
@@ -47,6 +69,7 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
     Accuracy accuracy(scene);
     std::vector<double> ms;
     ms.reserve(static_cast<std::size_t>(scene.steps));
+    r.fingerprints.reserve(static_cast<std::size_t>(scene.steps));
     double stepping = 0.0;
     for (int s = 1; s <= scene.steps; ++s) {
       const auto a = Clock::now();
@@ -54,9 +77,18 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
       const double dt = seconds(Clock::now() - a);
       ms.push_back(1e3 * dt);
       stepping += dt;
-      if (accuracy.due(s) || stepping > budget_s) {
+      if (r.is_linx) r.fingerprints.push_back(fingerprint(*engine, r.bodies));
+      if (accuracy.due(s) || stepping > budget_s || s == 1) {
         accuracy.sample(*engine);
-        heap_peak = std::max(heap_peak, heapInUse());
+        const double heap = heapInUse();
+        if (s == 1) {
+          r.heap_first_mib = (heap - heap0) / (1024.0 * 1024.0);
+          r.contacts_first = engine->contactCount();
+        }
+        if (heap > heap_peak) {
+          heap_peak = heap;
+          r.contacts_at_peak = engine->contactCount();
+        }
       }
       if (stepping > budget_s && s < scene.steps) {
         r.note = "stopped at the " + std::to_string(static_cast<int>(budget_s)) + " s budget";

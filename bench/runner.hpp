@@ -5,7 +5,9 @@
 #include "engine.hpp"
 #include "scene.hpp"
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace bench {
 
@@ -21,7 +23,14 @@ struct Result {
   double build_s = 0.0;        ///< wall time to build the scene (s)
   double accuracy = 0.0;       ///< the scene's metric, worst over the run
   double heap_peak_mib = 0.0;  ///< largest heap in use during the run, less the heap before it
+  /// The heap after the first step and the contact points then, and the contact points when the
+  /// peak was seen: two points that split the heap into a part per body and a part per contact.
+  double heap_first_mib = 0.0;
+  std::size_t contacts_first = 0, contacts_at_peak = 0;
   int bodies = 0;
+  int threads = 1;
+  /// linx rows: a hash of every body's pose after each step, to compare thread counts.
+  std::vector<std::uint64_t> fingerprints;
 };
 
 /// Runs `variant` on `scene` for scene.steps steps, or until `budget_s` seconds of stepping have

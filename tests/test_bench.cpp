@@ -3,12 +3,14 @@
 // forms (so the table's linx rows measure the engine the tests measure).
 #include "engine.hpp"
 #include "metrics.hpp"
+#include "report.hpp"
 #include "runner.hpp"
 #include "scenes.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
 
 namespace bench {
 namespace {
@@ -126,6 +128,34 @@ TEST(BenchLinx, SmallPyramidStandsForOneSecond) {
   ASSERT_TRUE(r.ran) << r.note;
   std::printf("pyramid of 10 boxes after 1 s: largest displacement %.2e m\n", r.accuracy);
   EXPECT_LT(r.accuracy, 0.01);
+}
+
+// The threads target compares the poses of the one- and two-thread rows step by step: a report
+// that called differing runs identical would hide a race. Runs of the 1000-sphere pile on one and
+// on two threads, 12 steps each, must agree to the bit; a doctored fingerprint must be caught at
+// its step.
+TEST(BenchReport, ThreadRowsAreComparedStepByStep) {
+  Scene s = pouredSpheres(1000);
+  s.steps = 12;
+  std::vector<Result> results;
+  for (const Variant& v : linxVariants(s)) results.push_back(run(s, v, 60.0));
+  if (results.size() < 2) GTEST_SKIP() << "a single hardware thread: no threads row";
+  ASSERT_EQ(results[1].threads, static_cast<int>(std::thread::hardware_concurrency()));
+  ASSERT_EQ(results[0].fingerprints.size(), 12u);
+  EXPECT_EQ(results[0].fingerprints, results[1].fingerprints);
+  auto line = [](const std::vector<Result>& r) {
+    for (const Target& t : targets(r))
+      if (t.text.find("threads") != std::string::npos) return t;
+    return Target{false, false, "none"};
+  };
+  const Target same = line(results);
+  std::printf("%s\n", same.text.c_str());
+  EXPECT_TRUE(same.met);
+  EXPECT_NE(same.text.find("identical poses over all 12 steps"), std::string::npos);
+  results[1].fingerprints[7] ^= 1;
+  const Target differ = line(results);
+  EXPECT_FALSE(differ.met);
+  EXPECT_NE(differ.text.find("poses differ from step 8"), std::string::npos);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <string>
+#include <thread>
 #include <utility>
 
 namespace bench {
@@ -35,11 +36,12 @@ linx::ShapeDef shapeOf(const Shape& s, double friction) {
 
 class LinxEngine final : public Engine {
  public:
-  LinxEngine(const Scene& scene, const linx::SolverSettings& solver) {
+  LinxEngine(const Scene& scene, const linx::SolverSettings& solver, int threads) {
     linx::WorldSettings settings;
     settings.gravity = scene.gravity;
     settings.timestep = scene.timestep;
     settings.solver = solver;
+    settings.threads = threads;
     world_ = linx::World(settings);
     ids_.reserve(scene.bodies.size());
     for (const Body& b : scene.bodies) {
@@ -90,6 +92,7 @@ class LinxEngine final : public Engine {
   }
 
   void step() override { world_.step(); }
+  std::size_t contactCount() const override { return world_.contacts().size(); }
   Pose pose(int i) const override {
     const linx::Body& b = world_.body(ids_[i]);
     return {b.position(), b.orientation()};
@@ -125,19 +128,25 @@ bool hasContacts(const Scene& scene) {
 }  // namespace
 
 std::vector<Variant> linxVariants(const Scene& scene) {
-  const auto variant = [](std::string settings, linx::SolverSettings solver, bool reference) {
+  const auto variant = [](std::string settings, linx::SolverSettings solver, bool reference,
+                          int threads = 1) {
     return Variant{"linx", std::move(settings),
-                   [solver](const Scene& s) -> std::unique_ptr<Engine> {
-                     return std::make_unique<LinxEngine>(s, solver);
+                   [solver, threads](const Scene& s) -> std::unique_ptr<Engine> {
+                     return std::make_unique<LinxEngine>(s, solver, threads);
                    },
-                   reference};
+                   reference, threads};
   };
   const linx::SolverSettings defaults;
   std::vector<Variant> out;
   if (hasContacts(scene)) {
-    out.push_back(variant("default: auto (PGS on friction islands, " +
-                              std::to_string(defaults.iterations) + " it max)",
-                          defaults, true));
+    const std::string name = "default: auto (PGS on friction islands, " +
+                             std::to_string(defaults.iterations) + " it max)";
+    out.push_back(variant(name, defaults, true));
+    // The same on every hardware thread: the same results to the bit, in less time.
+    const int cores = static_cast<int>(std::thread::hardware_concurrency());
+    if (cores > 1)
+      out.push_back(
+          variant(name + ", " + std::to_string(cores) + " threads", defaults, false, cores));
     return out;
   }
   // Mechanisms: the default, then with position projection, which removes the joint drift that

@@ -16,7 +16,7 @@ namespace linx::solver {
 /// of the body velocities, so that one row update reads one contiguous record and two velocity
 /// slots: the buffers are kept between solves and do not allocate once grown.
 ///
-/// Large problems (4096 rows and more) are swept colour by colour: a greedy colouring splits the
+/// Large problems (16,384 rows and more) are swept colour by colour: a greedy colouring splits the
 /// normal and bilateral rows, then the friction rows, into groups whose rows share no movable
 /// body, and the threads of Problem::threads split each group. The order of the sweep depends on
 /// the rows alone, never on the thread count, so every count gives the same impulses to the bit.
