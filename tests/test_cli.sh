@@ -154,7 +154,7 @@ case "$case_name" in
 
   bad_flags)
     for flags in "--every 0" "--every -3" "--timestep -1" "--timestep=-1" "--timestep 0" \
-      "--duration nan" "--duration inf" "--duration 0" "--duration 0.0001" "--threads -1"; do
+      "--duration nan" "--duration inf" "--duration 0" "--duration 0.0001" "--threads -1" "--threads 2000"; do
       # shellcheck disable=SC2086
       expect 2 "$linx" run good.json --out out $flags
       expect_error_line "linx: --"
@@ -165,7 +165,7 @@ case "$case_name" in
     expect 2 "$linx" run good.json --out out --timestep=-1
     [ "$(cat err.txt)" = "linx: --timestep: must be a finite number > 0, got -1" ] || fail "--timestep message"
     expect 2 "$linx" run good.json --out out --threads -1
-    [ "$(cat err.txt)" = "linx: --threads: must be an integer >= 0, got -1" ] || fail "--threads message"
+    [ "$(cat err.txt)" = "linx: --threads: must be an integer in [0, 1024], got -1" ] || fail "--threads message"
     echo "not a directory" >taken
     expect 2 "$linx" run good.json --out taken
     expect_error_line "linx: --out: taken: exists and is not a directory"

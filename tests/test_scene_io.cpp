@@ -414,6 +414,7 @@ TEST(SceneError, TopLevel) {
       {[](json& s) { s["duration"] = true; }, "duration", "expected a number, got a boolean"},
       {[](json& s) { s["threads"] = -1; }, "threads", "must be an integer >= 0, got -1"},
       {[](json& s) { s["threads"] = 1.5; }, "threads", "must be an integer >= 0, got 1.5"},
+      {[](json& s) { s["threads"] = 5000; }, "threads", "must be at most 1024, got 5000"},
       {[](json& s) { s.erase("bodies"); }, "bodies", "missing required field"},
       {[](json& s) { s["bodies"] = json::array(); }, "bodies", "must contain at least one body"},
       {[](json& s) { s["bodies"] = json::object(); }, "bodies", "expected an array, got an object"},

@@ -190,7 +190,11 @@ class Reader {
     if (auto n = get(node, "gravity")) scene.settings.gravity = vec3(*n);
     if (auto n = get(node, "timestep")) scene.settings.timestep = positive(*n);
     if (auto n = get(node, "duration")) scene.duration = positive(*n);
-    if (auto n = get(node, "threads")) scene.settings.threads = integer(*n, 0);
+    if (auto n = get(node, "threads")) {
+      scene.settings.threads = integer(*n, 0);
+      if (scene.settings.threads > 1024)
+        fail(n->path, fmt::format("must be at most 1024, got {}", scene.settings.threads));
+    }
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
     if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);
     if (auto n = get(node, "sleep")) scene.settings.sleep = sleep(*n);

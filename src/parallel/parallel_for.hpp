@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <exception>
 
 #include <omp.h>
 
@@ -14,17 +15,31 @@ inline int resolveThreads(int requested) {
   return requested > 0 ? requested : omp_get_num_procs();
 }
 
+/// Runs f, keeping the first exception that any thread meets in `error`: an exception may not
+/// leave a parallel region, so it is carried out of it and rethrown there.
+template <class F>
+void keepFirstError(std::exception_ptr& error, F&& f) {
+  try {
+    f();
+  } catch (...) {
+#pragma omp critical(linx_parallel_error)
+    if (!error) error = std::current_exception();
+  }
+}
+
 /// Calls body(i) for every i in [0, n): split over `threads` threads in static chunks when n is at
 /// least `grain`, in order on the calling thread otherwise (a team costs microseconds to wake).
-/// body(i) must write only what belongs to i.
+/// body(i) must write only what belongs to i. An exception thrown by body is rethrown here.
 template <class Body>
 void forEach(std::ptrdiff_t n, int threads, std::ptrdiff_t grain, Body&& body) {
   if (threads <= 1 || n < grain) {
     for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
     return;
   }
+  std::exception_ptr error;
 #pragma omp parallel for num_threads(threads) schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+  for (std::ptrdiff_t i = 0; i < n; ++i) keepFirstError(error, [&] { body(i); });
+  if (error) std::rethrow_exception(error);
 }
 
 /// Calls task(t) for every t in [0, tasks): coarse tasks of uneven cost (runs of broadphase
@@ -36,8 +51,10 @@ void forEachTask(std::ptrdiff_t tasks, int threads, Task&& task) {
     for (std::ptrdiff_t t = 0; t < tasks; ++t) task(t);
     return;
   }
+  std::exception_ptr error;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (std::ptrdiff_t t = 0; t < tasks; ++t) task(t);
+  for (std::ptrdiff_t t = 0; t < tasks; ++t) keepFirstError(error, [&] { task(t); });
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace linx::parallel

@@ -124,7 +124,9 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     c.lo = r.lo;
     c.hi = r.hi;
     c.mu = r.mu;
-    c.normal = r.kind == RowKind::Friction ? position_[static_cast<std::size_t>(r.normal)] : -1;
+    c.normal = r.kind == RowKind::Friction && r.normal >= 0
+                   ? position_[static_cast<std::size_t>(r.normal)]
+                   : -1;  // friction without a normal row keeps its own bounds
     lambda_[pos] = p.lambda[static_cast<std::size_t>(order_[pos])];
   });
 
@@ -144,13 +146,18 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     return c.ja_v.dot(a.v) + c.ja_w.dot(a.w) + c.jb_v.dot(b.v) + c.jb_w.dot(b.w) - c.target +
            c.cfm * l;
   };
+  // The slot of "no body" is only read: rows of one colour may share it, so it is never written.
   const auto apply = [&](const CompactRow& c, double delta) {
-    Velocity& a = velocities_[static_cast<std::size_t>(c.a)];
-    a.v += delta * c.wa_v;
-    a.w += delta * c.wa_w;
-    Velocity& b = velocities_[static_cast<std::size_t>(c.b)];
-    b.v += delta * c.wb_v;
-    b.w += delta * c.wb_w;
+    if (c.a != none) {
+      Velocity& a = velocities_[static_cast<std::size_t>(c.a)];
+      a.v += delta * c.wa_v;
+      a.w += delta * c.wa_w;
+    }
+    if (c.b != none) {
+      Velocity& b = velocities_[static_cast<std::size_t>(c.b)];
+      b.v += delta * c.wb_v;
+      b.w += delta * c.wb_w;
+    }
   };
 
   // Warm start: apply the initial guess, clamped to the bounds it must respect.

@@ -91,7 +91,7 @@ collision::Aabb sweptBox(const Body& body, const collision::Aabb& tight, double 
 bool mayTouch(const Body& a, const Body& b, const collision::ContactPoint& p, double margin,
               double h) {
   const double gap = -p.depth;
-  if (gap <= margin) return true;
+  if (!(gap > margin)) return true;  // also a NaN depth: its rows stop the step with an error
   const double closing = std::max(0.0, a.velocityAt(p.point).dot(p.normal)) +
                          std::max(0.0, -b.velocityAt(p.point).dot(p.normal));
   return gap <= margin + h * closing;

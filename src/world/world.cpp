@@ -36,6 +36,7 @@ namespace linx {
 namespace {
 /// Bodies from which the per-body stages of a step are split over the threads.
 constexpr std::ptrdiff_t kParallelBodies = 4096;
+constexpr int kMaxThreads = 1024;
 }  // namespace
 
 struct World::Impl {
@@ -148,7 +149,9 @@ BodyState World::bodyState(BodyId id) const {
 void World::step() {
   const double h = settings_.timestep;
   if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("timestep: must be > 0");
-  if (settings_.threads < 0) throw std::invalid_argument("threads: must be >= 0 (0: one per core)");
+  if (settings_.threads < 0 || settings_.threads > kMaxThreads)
+    throw std::invalid_argument(
+        fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
   const int substeps = std::max(1, settings_.solver.substeps);
   try {
     for (int s = 0; s < substeps; ++s) substep(h / substeps);
