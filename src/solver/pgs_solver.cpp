@@ -98,42 +98,33 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     c.jb_w = r.Jb.tail<3>();
     double diag = r.cfm;
     c.a = none;
-    c.wa_v.setZero();
-    c.wa_w.setZero();
     if (r.body_a >= 0) {
       const SolverBody& b = p.bodies[static_cast<std::size_t>(r.body_a)];
       c.a = r.body_a;
-      c.wa_v = b.inv_mass * c.ja_v;
-      c.wa_w = b.inv_inertia * c.ja_w;
-      diag += c.ja_v.dot(c.wa_v) + c.ja_w.dot(c.wa_w);
+      diag += b.inv_mass * c.ja_v.squaredNorm() + c.ja_w.dot(b.inv_inertia * c.ja_w);
     }
     c.b = none;
-    c.wb_v.setZero();
-    c.wb_w.setZero();
     if (r.body_b >= 0) {
       const SolverBody& b = p.bodies[static_cast<std::size_t>(r.body_b)];
       c.b = r.body_b;
-      c.wb_v = b.inv_mass * c.jb_v;
-      c.wb_w = b.inv_inertia * c.jb_w;
-      diag += c.jb_v.dot(c.wb_v) + c.jb_w.dot(c.wb_w);
+      diag += b.inv_mass * c.jb_v.squaredNorm() + c.jb_w.dot(b.inv_inertia * c.jb_w);
     }
     c.inv_diag = diag > 0.0 ? 1.0 / diag : 0.0;  // 0: a row that touches no movable body
     c.diag = diag > 0.0 ? diag / settings.sor : 0.0;
     c.target = r.target(p.h);
     c.cfm = r.cfm;
-    c.lo = r.lo;
-    c.hi = r.hi;
-    c.mu = r.mu;
     c.normal = r.kind == RowKind::Friction && r.normal >= 0
                    ? position_[static_cast<std::size_t>(r.normal)]
                    : -1;  // friction without a normal row keeps its own bounds
+    c.lo = r.lo;
+    c.hi = c.normal >= 0 ? r.mu : r.hi;
     lambda_[pos] = p.lambda[static_cast<std::size_t>(order_[pos])];
   });
 
   double* lambda = lambda_.data();
   const auto bounds = [&](const CompactRow& c, double& lo, double& hi) {
     if (c.normal >= 0) {
-      hi = c.mu * std::max(0.0, lambda[c.normal]);
+      hi = c.hi * std::max(0.0, lambda[c.normal]);  // hi holds mu
       lo = -hi;
     } else {
       lo = c.lo;
@@ -149,23 +140,33 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   // The slot of "no body" is only read: rows of one colour may share it, so it is never written.
   const auto apply = [&](const CompactRow& c, double delta) {
     if (c.a != none) {
+      const SolverBody& body = p.bodies[static_cast<std::size_t>(c.a)];
       Velocity& a = velocities_[static_cast<std::size_t>(c.a)];
-      a.v += delta * c.wa_v;
-      a.w += delta * c.wa_w;
+      a.v += (delta * body.inv_mass) * c.ja_v;
+      a.w += body.inv_inertia * (delta * c.ja_w);
     }
     if (c.b != none) {
+      const SolverBody& body = p.bodies[static_cast<std::size_t>(c.b)];
       Velocity& b = velocities_[static_cast<std::size_t>(c.b)];
-      b.v += delta * c.wb_v;
-      b.w += delta * c.wb_w;
+      b.v += (delta * body.inv_mass) * c.jb_v;
+      b.w += body.inv_inertia * (delta * c.jb_w);
     }
   };
 
-  // Warm start: apply the initial guess, clamped to the bounds it must respect.
-  for (std::size_t k = 0; k < n; ++k) {
+  // Warm start: apply the initial guess, clamped to the bounds it must respect; group by group
+  // (rows of a colour share no body, and a friction row's normal is in an earlier group).
+  const auto warm = [&](std::size_t k) {
     double lo, hi;
     bounds(rows_[k], lo, hi);
     lambda[k] = std::clamp(lambda[k], lo, hi);
     if (lambda[k] != 0.0) apply(rows_[k], lambda[k]);
+  };
+  for (const Group& g : groups_) {
+    if (g.parallel)
+      parallel::forEach(g.size, threads, 0,
+                        [&](std::ptrdiff_t j) { warm(static_cast<std::size_t>(g.begin + j)); });
+    else
+      for (int j = 0; j < g.size; ++j) warm(static_cast<std::size_t>(g.begin + j));
   }
 
   // One row's update; returns its violation before the update, without a branch: |w| for a free
@@ -239,21 +240,32 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     }
   }
 
-  // Scatter the impulses and velocities; the residual is measured with them.
-  for (std::size_t pos = 0; pos < n; ++pos)
+  // Scatter the impulses and velocities; the residual is measured with them (a maximum, the
+  // same in any order).
+  parallel::forEach(signed_n, threads, kColourRows, [&](std::ptrdiff_t ip) {
+    const auto pos = static_cast<std::size_t>(ip);
     p.lambda[static_cast<std::size_t>(order_[pos])] = lambda[pos];
-  for (std::size_t i = 0; i < p.bodies.size(); ++i) {
-    p.bodies[i].v = velocities_[i].v;
-    p.bodies[i].w = velocities_[i].w;
-  }
-  double residual = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    double lo, hi;
-    bounds(rows_[k], lo, hi);
-    residual =
-        std::max(residual, RowSystem::violation(lambda[k], lo, hi, slack(rows_[k], lambda[k])));
-  }
-  report.residual = residual;
+  });
+  parallel::forEach(static_cast<std::ptrdiff_t>(p.bodies.size()), threads, kColourRows,
+                    [&](std::ptrdiff_t ii) {
+                      const auto i = static_cast<std::size_t>(ii);
+                      p.bodies[i].v = velocities_[i].v;
+                      p.bodies[i].w = velocities_[i].w;
+                    });
+  const std::size_t chunks = n >= kColourRows ? static_cast<std::size_t>(threads) : 1;
+  thread_violation_.assign(chunks, 0.0);
+  parallel::forEach(static_cast<std::ptrdiff_t>(chunks), threads, 0, [&](std::ptrdiff_t c) {
+    const auto chunk = static_cast<std::size_t>(c);
+    double residual = 0.0;
+    for (std::size_t k = n * chunk / chunks; k < n * (chunk + 1) / chunks; ++k) {
+      double lo, hi;
+      bounds(rows_[k], lo, hi);
+      residual =
+          std::max(residual, RowSystem::violation(lambda[k], lo, hi, slack(rows_[k], lambda[k])));
+    }
+    thread_violation_[chunk] = residual;
+  });
+  report.residual = *std::max_element(thread_violation_.begin(), thread_violation_.end());
   return report;
 }
 

@@ -36,23 +36,28 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
     if (body >= body_count) throw std::invalid_argument("solveIslands: row body out of range");
     return islands.islandOf(body);
   };
+  const auto signed_n = static_cast<std::ptrdiff_t>(n);
   work.row_island.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
+  parallel::forEach(signed_n, threads, kParallelRows, [&](std::ptrdiff_t ik) {
+    const auto k = static_cast<std::size_t>(ik);
     const int a = islandOf(rows[k].body_a), b = islandOf(rows[k].body_b);
     if (a >= 0 && b >= 0 && a != b)
       throw std::invalid_argument("solveIslands: a row joins two islands");
     work.row_island[k] = a >= 0 ? a : b;
-  }
-  for (std::size_t k = 0; k < n; ++k) {
+  });
+  parallel::forEach(signed_n, threads, kParallelRows, [&](std::ptrdiff_t ik) {
+    const auto k = static_cast<std::size_t>(ik);
     const int normal = rows[k].normal;
-    if (normal < 0) continue;
+    if (normal < 0) return;
     if (static_cast<std::size_t>(normal) >= n ||
         work.row_island[static_cast<std::size_t>(normal)] != work.row_island[k])
       throw std::invalid_argument("solveIslands: a friction row's normal row is in another island");
-  }
+  });
   bucketByIsland(work.row_island, count, work.row_start, work.row_list);
-  for (std::size_t k = 0; k < n; ++k)
-    if (work.row_island[k] < 0) lambda[k] = 0.0;  // touches nothing that moves
+  parallel::forEach(signed_n, threads, kParallelRows, [&](std::ptrdiff_t k) {
+    if (work.row_island[static_cast<std::size_t>(k)] < 0)
+      lambda[static_cast<std::size_t>(k)] = 0.0;  // touches nothing that moves
+  });
   work.local_row.resize(n);
   work.local_body.assign(bodies.size(), -1);
 
@@ -83,9 +88,10 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
     const auto m = static_cast<std::size_t>(end - begin);
     work.rows.resize(m);
     work.lambda.resize(m);
-    for (std::size_t j = 0; j < m; ++j)
-      work.local_row[static_cast<std::size_t>(begin[static_cast<std::ptrdiff_t>(j)])] =
-          static_cast<int>(j);
+    parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows,
+                      [&](std::ptrdiff_t j) {
+                        work.local_row[static_cast<std::size_t>(begin[j])] = static_cast<int>(j);
+                      });
     for (std::size_t j = 0; j < m; ++j) {  // number the bodies first, in row order
       const Row& r = rows[static_cast<std::size_t>(begin[static_cast<std::ptrdiff_t>(j)])];
       local(r.body_a);
@@ -105,17 +111,26 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
                         work.lambda[static_cast<std::size_t>(j)] = lambda[k];
                       });
     work.bodies.resize(work.gathered.size());
-    for (std::size_t l = 0; l < work.gathered.size(); ++l)
-      work.bodies[l] = bodies[static_cast<std::size_t>(work.gathered[l])];
+    parallel::forEach(
+        static_cast<std::ptrdiff_t>(work.gathered.size()), threads, kParallelRows,
+        [&](std::ptrdiff_t l) {
+          work.bodies[static_cast<std::size_t>(l)] =
+              bodies[static_cast<std::size_t>(work.gathered[static_cast<std::size_t>(l)])];
+        });
 
     solver::Problem problem{work.rows, work.bodies, work.lambda, h, threads};
     const SolverReport report = solver.solve(problem, settings);
 
     // Scatter.
-    for (std::size_t j = 0; j < m; ++j)
-      lambda[static_cast<std::size_t>(begin[static_cast<std::ptrdiff_t>(j)])] = work.lambda[j];
-    for (std::size_t l = 0; l < own; ++l)
-      bodies[static_cast<std::size_t>(work.gathered[l])] = work.bodies[l];
+    parallel::forEach(
+        static_cast<std::ptrdiff_t>(m), threads, kParallelRows, [&](std::ptrdiff_t j) {
+          lambda[static_cast<std::size_t>(begin[j])] = work.lambda[static_cast<std::size_t>(j)];
+        });
+    parallel::forEach(
+        static_cast<std::ptrdiff_t>(own), threads, kParallelRows, [&](std::ptrdiff_t l) {
+          bodies[static_cast<std::size_t>(work.gathered[static_cast<std::size_t>(l)])] =
+              work.bodies[static_cast<std::size_t>(l)];
+        });
     for (const int b : work.gathered) work.local_body[static_cast<std::size_t>(b)] = -1;
 
     total.rows += report.rows;
