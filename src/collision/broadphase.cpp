@@ -61,7 +61,7 @@ void SweepAndPrune::update(std::span<const Aabb> boxes, int threads) {
   chooseAxes(boxes);
   sortKeys(boxes, same_count && axis_ == previous_axis);
   if (boxes.size() < 2) return;
-  buildCells(boxes);
+  buildCells(boxes, threads);
 
   // Sweep each column: entries are in increasing lower bound along the sweep axis, so box m can
   // overlap box k (m after k) only while its lower bound is <= k's upper bound. Many columns are
@@ -214,47 +214,75 @@ int SweepAndPrune::cellOf(int q, double x) const {
   return static_cast<int>(t);
 }
 
-void SweepAndPrune::buildCells(std::span<const Aabb> boxes) {
+void SweepAndPrune::buildCells(std::span<const Aabb> boxes, int threads) {
   // Counting sort of the boxes into columns, visiting them in sweep order so that every column
-  // comes out already sorted along the sweep axis.
+  // comes out already sorted along the sweep axis. Several threads each count and place a run of
+  // the keys; a column takes the runs in order, so it comes out the same for any thread count.
   const int b = cell_axis_[0];
   const int c = cell_axis_[1];
-  auto range = [&](const Aabb& box, int& b0, int& b1, int& c0, int& c1) {
-    b0 = cellOf(0, box.min[b]);
-    b1 = cellOf(0, box.max[b]);
-    c0 = cellOf(1, box.min[c]);
-    c1 = cellOf(1, box.max[c]);
-  };
-  int b0 = 0, b1 = 0, c0 = 0, c1 = 0;
+  const std::size_t n = keys_.size();
+  const std::size_t chunks = threads > 1 && n >= kParallelBoxes
+                                 ? std::min<std::size_t>(static_cast<std::size_t>(threads), 8)
+                                 : 1;
+  const auto first = [&](std::size_t chunk) { return n * chunk / chunks; };
+  ranges_.resize(n);
+  chunk_entries_.assign(chunks, 0.0);
   // A few very large boxes among many small ones would be copied into very many columns: keep
   // the copies within a multiple of n by coarsening the grid (down to a single sweep if need be).
-  const double max_entries = 8.0 * static_cast<double>(keys_.size()) + 1024.0;
-  while (cell_count_[0] * cell_count_[1] > 1) {
+  const double max_entries = 8.0 * static_cast<double>(n) + 1024.0;
+  for (;;) {
+    parallel::forEach(static_cast<std::ptrdiff_t>(chunks), threads, 2, [&](std::ptrdiff_t ch) {
+      const auto chunk = static_cast<std::size_t>(ch);
+      double entries = 0.0;
+      for (std::size_t k = first(chunk); k < first(chunk + 1); ++k) {
+        const Aabb& box = boxes[static_cast<std::size_t>(keys_[k].index)];
+        auto& r = ranges_[k];
+        r = {cellOf(0, box.min[b]), cellOf(0, box.max[b]), cellOf(1, box.min[c]),
+             cellOf(1, box.max[c])};
+        entries += std::max(0, r[1] - r[0] + 1) * static_cast<double>(std::max(0, r[3] - r[2] + 1));
+      }
+      chunk_entries_[chunk] = entries;
+    });
     double entries = 0.0;
-    for (const Key& key : keys_) {
-      range(boxes[key.index], b0, b1, c0, c1);
-      entries += std::max(0, b1 - b0 + 1) * static_cast<double>(std::max(0, c1 - c0 + 1));
-    }
-    if (entries <= max_entries) break;
+    for (const double e : chunk_entries_) entries += e;
+    if (cell_count_[0] * cell_count_[1] == 1 || entries <= max_entries) break;
     setCellCounts((cell_count_[0] + 1) / 2, (cell_count_[1] + 1) / 2);
   }
-  const int cells = cell_count_[0] * cell_count_[1];
-  cell_begin_.assign(static_cast<std::size_t>(cells) + 1, 0);
-  for (const Key& key : keys_) {
-    range(boxes[key.index], b0, b1, c0, c1);
-    for (int i = b0; i <= b1; ++i)
-      for (int j = c0; j <= c1; ++j) ++cell_begin_[i * cell_count_[1] + j + 1];
+  const auto cells = static_cast<std::size_t>(cell_count_[0] * cell_count_[1]);
+  const auto columns = static_cast<std::size_t>(cell_count_[1]);
+  chunk_fill_.assign(chunks * cells, 0);
+  const auto visit = [&](std::size_t chunk, auto&& f) {
+    int* fill = chunk_fill_.data() + chunk * cells;
+    for (std::size_t k = first(chunk); k < first(chunk + 1); ++k) {
+      const auto& r = ranges_[k];
+      for (int i = r[0]; i <= r[1]; ++i)
+        for (int j = r[2]; j <= r[3]; ++j) f(k, fill[static_cast<std::size_t>(i) * columns + j]);
+    }
+  };
+  parallel::forEach(static_cast<std::ptrdiff_t>(chunks), threads, 2, [&](std::ptrdiff_t ch) {
+    visit(static_cast<std::size_t>(ch), [](std::size_t, int& count) { ++count; });
+  });
+  // Column-major, run-minor prefix sum: each run's count becomes its write cursor.
+  cell_begin_.resize(cells + 1);
+  int total = 0;
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    cell_begin_[cell] = total;
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+      int& fill = chunk_fill_[chunk * cells + cell];
+      const int count = fill;
+      fill = total;
+      total += count;
+    }
   }
-  for (int cell = 0; cell < cells; ++cell) cell_begin_[cell + 1] += cell_begin_[cell];
-  entries_.resize(static_cast<std::size_t>(cell_begin_[cells]));
-  cell_fill_.assign(cell_begin_.begin(), cell_begin_.end() - 1);
-  for (const Key& key : keys_) {
-    const Aabb& box = boxes[key.index];
-    range(box, b0, b1, c0, c1);
-    for (int i = b0; i <= b1; ++i)
-      for (int j = c0; j <= c1; ++j)
-        entries_[cell_fill_[i * cell_count_[1] + j]++] = {box, key.index};
-  }
+  cell_begin_[cells] = total;
+  entries_.resize(static_cast<std::size_t>(total));
+  parallel::forEach(static_cast<std::ptrdiff_t>(chunks), threads, 2, [&](std::ptrdiff_t ch) {
+    visit(static_cast<std::size_t>(ch), [&](std::size_t k, int& cursor) {
+      const int index = keys_[k].index;
+      entries_[static_cast<std::size_t>(cursor++)] = {boxes[static_cast<std::size_t>(index)],
+                                                      index};
+    });
+  });
 }
 
 }  // namespace linx::collision

@@ -65,7 +65,7 @@ class SweepAndPrune {
 
   void chooseAxes(std::span<const Aabb> boxes);
   void sortKeys(std::span<const Aabb> boxes, bool coherent);
-  void buildCells(std::span<const Aabb> boxes);
+  void buildCells(std::span<const Aabb> boxes, int threads);
   int cellOf(int q, double x) const;
   void setCellCounts(int count_b, int count_c);  // column index along cell axis q (monotone in x)
   void sortPairs(int n);
@@ -74,7 +74,9 @@ class SweepAndPrune {
   std::vector<Key> keys_;
   std::vector<Entry> entries_;
   std::vector<int> cell_begin_;  // column s holds entries_[cell_begin_[s], cell_begin_[s + 1])
-  std::vector<int> cell_fill_;
+  std::vector<std::array<int, 4>> ranges_;  // per key: its first and last column on each axis
+  std::vector<int> chunk_fill_;  // per run of keys and column: its count, then its write cursor
+  std::vector<double> chunk_entries_;  // per run of keys: the column entries it makes
   std::vector<std::pair<int, int>> pairs_;
   std::vector<std::pair<int, int>> sorted_;  // sortPairs' output, swapped with pairs_
   std::vector<int> pair_start_;              // sortPairs' buckets, by first index

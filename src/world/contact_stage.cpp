@@ -16,6 +16,8 @@ namespace {
 constexpr std::size_t kParallelPairs = 1024;
 /// Contacts for appendRows and store to split over threads.
 constexpr std::ptrdiff_t kParallelContacts = 1024;
+/// Shapes whose poses and swept boxes are computed by several threads.
+constexpr std::ptrdiff_t kParallelShapes = 2048;
 
 /// Identity of a contact across steps: bit 63 (a contact, not a joint), the two global shape
 /// indices and the feature id; the low two bits stay free for the row slot.
@@ -137,15 +139,18 @@ void ContactStage::detect(std::span<const Body> bodies,
   std::vector<double>& reach = reach_;
   reach.resize(geometry_.size());
   poses_.resize(geometry_.size());
-  for (std::size_t s = 0; s < geometry_.size(); ++s) {
-    const Body& body = bodies[static_cast<std::size_t>(shape_body_[s])];
-    const int local = static_cast<int>(s) - first_shape_[static_cast<std::size_t>(shape_body_[s])];
-    const ShapeDef& shape = body.shapes()[static_cast<std::size_t>(local)];
-    poses_[s] = shapePose(body, shape);
-    const collision::Aabb tight = collision::shapeAabb(shape, body.pose());
-    reach[s] = sweep(body, tight, h);
-    boxes_[s] = sweptBox(body, tight, h, settings.margin);
-  }
+  parallel::forEach(static_cast<std::ptrdiff_t>(geometry_.size()), threads, kParallelShapes,
+                    [&](std::ptrdiff_t is) {
+                      const auto s = static_cast<std::size_t>(is);
+                      const Body& body = bodies[static_cast<std::size_t>(shape_body_[s])];
+                      const int local = static_cast<int>(s) -
+                                        first_shape_[static_cast<std::size_t>(shape_body_[s])];
+                      const ShapeDef& shape = body.shapes()[static_cast<std::size_t>(local)];
+                      poses_[s] = shapePose(body, shape);
+                      const collision::Aabb tight = collision::shapeAabb(shape, body.pose());
+                      reach[s] = sweep(body, tight, h);
+                      boxes_[s] = sweptBox(body, tight, h, settings.margin);
+                    });
   broadphase_.update(boxes_, threads);
 
   // Narrowphase, pair by pair. Large sets of pairs are cut into consecutive chunks that threads
@@ -164,8 +169,17 @@ void ContactStage::detect(std::span<const Body> bodies,
       collidePair(bodies, settings, h, pairs[k].first, pairs[k].second,
                   chunk_points_[static_cast<std::size_t>(c)].value, out);
   });
+  // Join in chunk order, each chunk copied to its own place.
+  chunk_offset_.assign(chunks + 1, 0);
   for (std::size_t c = 0; c < chunks; ++c)
-    records_.insert(records_.end(), chunk_records_[c].value.begin(), chunk_records_[c].value.end());
+    chunk_offset_[c + 1] = chunk_offset_[c] + chunk_records_[c].value.size();
+  records_.resize(chunk_offset_[chunks]);
+  parallel::forEach(static_cast<std::ptrdiff_t>(chunks), threads, 2, [&](std::ptrdiff_t c) {
+    const auto& part = chunk_records_[static_cast<std::size_t>(c)].value;
+    std::copy(
+        part.begin(), part.end(),
+        records_.begin() + static_cast<std::ptrdiff_t>(chunk_offset_[static_cast<std::size_t>(c)]));
+  });
 }
 
 void ContactStage::collidePair(std::span<const Body> bodies, const ContactSettings& settings,

@@ -83,6 +83,7 @@ class ContactStage {
   // Per chunk of pairs: scratch points and the records found.
   std::vector<parallel::TaskOutput<std::vector<collision::ContactPoint>>> chunk_points_;
   std::vector<parallel::TaskOutput<std::vector<ContactRecord>>> chunk_records_;
+  std::vector<std::size_t> chunk_offset_;  // where each chunk's records go in records_
   std::vector<ContactRecord> records_;
   std::vector<Contact> contacts_;
   // The last step's points by shape pair (sorted), in body a's frame: a point is matched by its
