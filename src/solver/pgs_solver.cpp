@@ -98,33 +98,42 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     c.jb_w = r.Jb.tail<3>();
     double diag = r.cfm;
     c.a = none;
+    c.wa_v.setZero();
+    c.wa_w.setZero();
     if (r.body_a >= 0) {
       const SolverBody& b = p.bodies[static_cast<std::size_t>(r.body_a)];
       c.a = r.body_a;
-      diag += b.inv_mass * c.ja_v.squaredNorm() + c.ja_w.dot(b.inv_inertia * c.ja_w);
+      c.wa_v = b.inv_mass * c.ja_v;
+      c.wa_w = b.inv_inertia * c.ja_w;
+      diag += c.ja_v.dot(c.wa_v) + c.ja_w.dot(c.wa_w);
     }
     c.b = none;
+    c.wb_v.setZero();
+    c.wb_w.setZero();
     if (r.body_b >= 0) {
       const SolverBody& b = p.bodies[static_cast<std::size_t>(r.body_b)];
       c.b = r.body_b;
-      diag += b.inv_mass * c.jb_v.squaredNorm() + c.jb_w.dot(b.inv_inertia * c.jb_w);
+      c.wb_v = b.inv_mass * c.jb_v;
+      c.wb_w = b.inv_inertia * c.jb_w;
+      diag += c.jb_v.dot(c.wb_v) + c.jb_w.dot(c.wb_w);
     }
     c.inv_diag = diag > 0.0 ? 1.0 / diag : 0.0;  // 0: a row that touches no movable body
     c.diag = diag > 0.0 ? diag / settings.sor : 0.0;
     c.target = r.target(p.h);
     c.cfm = r.cfm;
+    c.lo = r.lo;
+    c.hi = r.hi;
+    c.mu = r.mu;
     c.normal = r.kind == RowKind::Friction && r.normal >= 0
                    ? position_[static_cast<std::size_t>(r.normal)]
                    : -1;  // friction without a normal row keeps its own bounds
-    c.lo = r.lo;
-    c.hi = c.normal >= 0 ? r.mu : r.hi;
     lambda_[pos] = p.lambda[static_cast<std::size_t>(order_[pos])];
   });
 
   double* lambda = lambda_.data();
   const auto bounds = [&](const CompactRow& c, double& lo, double& hi) {
     if (c.normal >= 0) {
-      hi = c.hi * std::max(0.0, lambda[c.normal]);  // hi holds mu
+      hi = c.mu * std::max(0.0, lambda[c.normal]);
       lo = -hi;
     } else {
       lo = c.lo;
@@ -140,16 +149,14 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   // The slot of "no body" is only read: rows of one colour may share it, so it is never written.
   const auto apply = [&](const CompactRow& c, double delta) {
     if (c.a != none) {
-      const SolverBody& body = p.bodies[static_cast<std::size_t>(c.a)];
       Velocity& a = velocities_[static_cast<std::size_t>(c.a)];
-      a.v += (delta * body.inv_mass) * c.ja_v;
-      a.w += body.inv_inertia * (delta * c.ja_w);
+      a.v += delta * c.wa_v;
+      a.w += delta * c.wa_w;
     }
     if (c.b != none) {
-      const SolverBody& body = p.bodies[static_cast<std::size_t>(c.b)];
       Velocity& b = velocities_[static_cast<std::size_t>(c.b)];
-      b.v += (delta * body.inv_mass) * c.jb_v;
-      b.w += body.inv_inertia * (delta * c.jb_w);
+      b.v += delta * c.wb_v;
+      b.w += delta * c.wb_w;
     }
   };
 

@@ -12,10 +12,9 @@ namespace linx::solver {
 /// given lambda (warm start); stops on the iteration cap or when the largest complementarity
 /// violation falls below the tolerance.
 ///
-/// The sweep runs on a compact copy of the rows (J of both ends, the diagonal, bounds and target
-/// in one 160-byte record) and of the body velocities, so that one row update reads one
-/// contiguous record, two velocity slots and the two bodies' inverse masses and inertias: the
-/// buffers are kept between solves and do not allocate once grown.
+/// The sweep runs on a compact copy of the rows (J and M^-1 J^T of both ends, side by side) and
+/// of the body velocities, so that one row update reads one contiguous record and two velocity
+/// slots: the buffers are kept between solves and do not allocate once grown.
 ///
 /// Large problems (16,384 rows and more) are swept colour by colour: a greedy colouring splits the
 /// normal and bilateral rows, then the friction rows, into groups whose rows share no movable
@@ -30,16 +29,12 @@ class PgsSolver final : public ConstraintSolver {
   struct Velocity {
     Vec3 v = Vec3::Zero(), w = Vec3::Zero();
   };
-  // 160 bytes: the sweep streams every row once per sweep, so the row's size sets its speed on a
-  // large pile. M^-1 J^T is not kept: each end's inverse mass and inertia are read from the
-  // bodies, which stay in cache, where the rows do not.
   struct CompactRow {
-    Vec3 ja_v, ja_w, jb_v, jb_w;  // J, linear and angular part of each end
-    double inv_diag, diag;        // 1 / A_kk, and A_kk / sor for the violation
-    double target, cfm;
-    double lo, hi;  // bounds; a friction row with a normal row keeps its friction coefficient in hi
-    int a, b;       // velocity slots; a row end without a body points at a slot that stays zero
-    int normal;     // friction rows: the normal row whose impulse bounds this one, else -1
+    Vec3 ja_v, ja_w, jb_v, jb_w;                     // J, linear and angular part of each end
+    Vec3 wa_v, wa_w, wb_v, wb_w;                     // M^-1 J^T
+    double inv_diag, diag, target, cfm, lo, hi, mu;  // diag: A_kk / sor, for the violation
+    int a, b;    // velocity slots; a row end without a body points at a slot that stays zero
+    int normal;  // friction rows: the normal row whose impulse bounds this one, else -1
   };
 
   struct Group {  // consecutive sweep positions [begin, begin + size)
