@@ -21,6 +21,7 @@
 #include "world/contact_stage.hpp"
 #include "world/island_solver.hpp"
 #include "world/islands.hpp"
+#include "world/joint_warm_start.hpp"
 #include "world/projection.hpp"
 #include "world/sleep.hpp"
 
@@ -43,7 +44,7 @@ struct World::Impl {
   std::vector<Row> rows;
   std::vector<solver::SolverBody> solver_bodies;
   std::vector<double> lambda;
-  std::unordered_map<std::uint64_t, double> warm;  // joint row key -> last impulse
+  world::JointWarmStart joint_warm;
   world::ContactStage contact;
   world::Islands islands;
   world::IslandWorkspace island_work;
@@ -207,12 +208,7 @@ void World::substep(double h) {
   world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
   const std::size_t joint_rows = m.rows.size();
   m.lambda.assign(joint_rows, 0.0);
-  if (settings_.solver.warm_start) {
-    for (std::size_t k = 0; k < joint_rows; ++k) {
-      const auto it = m.warm.find(m.rows[k].key);
-      if (it != m.warm.end()) m.lambda[k] = it->second;
-    }
-  }
+  if (settings_.solver.warm_start) m.joint_warm.load(m.rows, m.lambda);
   m.contact.detect(bodies_, joints_, settings_.contact, h, threads);
   m.contact.appendRows(bodies_, h, m.rows, m.lambda, settings_.solver.warm_start, threads);
   // Islands: bodies linked by this step's rows. An island with an awake body wakes entirely; the
@@ -248,8 +244,7 @@ void World::substep(double h) {
     if (island >= 0 && !island_awake.empty() && !island_awake[static_cast<std::size_t>(island)])
       m.lambda[k] = m.lambda0[k];
   }
-  m.warm.clear();
-  for (std::size_t k = 0; k < joint_rows; ++k) m.warm[m.rows[k].key] = m.lambda[k];
+  m.joint_warm.store(std::span<const Row>(m.rows).first(joint_rows), m.lambda);
   m.contact.store(bodies_, m.lambda, threads);
   // 5. positions
   each_body([&](std::size_t i) {
