@@ -17,6 +17,79 @@ void rowLinks(std::span<const Row> rows, std::vector<std::pair<int, int>>& links
   for (std::size_t k = 0; k < rows.size(); ++k) links[k] = {rows[k].body_a, rows[k].body_b};
 }
 
+namespace {
+
+void merge(SolverReport& total, const SolverReport& report) {
+  total.rows += report.rows;
+  total.iterations = std::max(total.iterations, report.iterations);
+  total.residual = std::max(total.residual, report.residual);
+  total.redundant_rows += report.redundant_rows;
+  total.converged = total.converged && report.converged;
+}
+
+/// Gathers island i into `out`, solves it with `solver` on `threads` and scatters the impulses
+/// and its own bodies' velocities back. Writes only the island's rows and bodies.
+SolverReport solveIsland(int i, const Islands& islands, std::span<const Row> rows,
+                         std::span<solver::SolverBody> bodies, std::span<double> lambda, double h,
+                         solver::ConstraintSolver& solver, const SolverSettings& settings,
+                         const IslandWorkspace& work, IslandProblem& out, int threads) {
+  const int* begin = work.row_list.data() + work.row_start[static_cast<std::size_t>(i)];
+  const auto m = static_cast<std::size_t>(work.row_start[static_cast<std::size_t>(i) + 1] -
+                                          work.row_start[static_cast<std::size_t>(i)]);
+  const std::span<const int> own = islands.bodies(i);
+
+  // The non-movable bodies the rows refer to (read only: their velocity enters J u).
+  out.statics.clear();
+  for (std::size_t j = 0; j < m; ++j) {
+    const Row& r = rows[static_cast<std::size_t>(begin[j])];
+    for (const int body : {r.body_a, r.body_b})
+      if (body >= 0 && islands.islandOf(body) < 0) out.statics.push_back(body);
+  }
+  std::sort(out.statics.begin(), out.statics.end());
+  out.statics.erase(std::unique(out.statics.begin(), out.statics.end()), out.statics.end());
+  const auto local = [&](int body) {
+    if (body < 0) return -1;
+    if (islands.islandOf(body) >= 0) return work.local_body[static_cast<std::size_t>(body)];
+    const auto it = std::lower_bound(out.statics.begin(), out.statics.end(), body);
+    return static_cast<int>(own.size()) + static_cast<int>(it - out.statics.begin());
+  };
+
+  out.rows.resize(m);
+  out.lambda.resize(m);
+  parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows, [&](std::ptrdiff_t j) {
+    const auto k = static_cast<std::size_t>(begin[j]);
+    Row& r = out.rows[static_cast<std::size_t>(j)];
+    r = rows[k];
+    r.body_a = local(r.body_a);
+    r.body_b = local(r.body_b);
+    if (r.normal >= 0) r.normal = work.local_row[static_cast<std::size_t>(r.normal)];
+    out.lambda[static_cast<std::size_t>(j)] = lambda[k];
+  });
+  out.bodies.resize(own.size() + out.statics.size());
+  parallel::forEach(static_cast<std::ptrdiff_t>(own.size()), threads, kParallelRows,
+                    [&](std::ptrdiff_t l) {
+                      out.bodies[static_cast<std::size_t>(l)] =
+                          bodies[static_cast<std::size_t>(own[static_cast<std::size_t>(l)])];
+                    });
+  for (std::size_t l = 0; l < out.statics.size(); ++l)
+    out.bodies[own.size() + l] = bodies[static_cast<std::size_t>(out.statics[l])];
+
+  solver::Problem problem{out.rows, out.bodies, out.lambda, h, threads};
+  const SolverReport report = solver.solve(problem, settings);
+
+  parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows, [&](std::ptrdiff_t j) {
+    lambda[static_cast<std::size_t>(begin[j])] = out.lambda[static_cast<std::size_t>(j)];
+  });
+  parallel::forEach(static_cast<std::ptrdiff_t>(own.size()), threads, kParallelRows,
+                    [&](std::ptrdiff_t l) {
+                      bodies[static_cast<std::size_t>(own[static_cast<std::size_t>(l)])] =
+                          out.bodies[static_cast<std::size_t>(l)];
+                    });
+  return report;
+}
+
+}  // namespace
+
 SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> island_awake,
                           std::span<const Row> rows, std::span<solver::SolverBody> bodies,
                           std::span<double> lambda, double h, solver::ConstraintSolver& solver,
@@ -54,91 +127,74 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
       throw std::invalid_argument("solveIslands: a friction row's normal row is in another island");
   });
   bucketByIsland(work.row_island, count, work.row_start, work.row_list);
+
+  // Local numbers: a row among its island's rows, a movable body among its island's bodies. Each
+  // row and body is in one island at most, so every island's numbers can be written at once.
   parallel::forEach(signed_n, threads, kParallelRows, [&](std::ptrdiff_t k) {
     if (work.row_island[static_cast<std::size_t>(k)] < 0)
       lambda[static_cast<std::size_t>(k)] = 0.0;  // touches nothing that moves
   });
   work.local_row.resize(n);
-  work.local_body.assign(bodies.size(), -1);
+  work.local_body.resize(bodies.size());
+  for (int i = 0; i < count; ++i) {
+    const int first = work.row_start[static_cast<std::size_t>(i)];
+    const int last = work.row_start[static_cast<std::size_t>(i) + 1];
+    for (int j = first; j < last; ++j)
+      work.local_row[static_cast<std::size_t>(work.row_list[static_cast<std::size_t>(j)])] =
+          j - first;
+    const std::span<const int> own = islands.bodies(i);
+    for (std::size_t l = 0; l < own.size(); ++l)
+      work.local_body[static_cast<std::size_t>(own[l])] = static_cast<int>(l);
+  }
+
+  // Sleeping islands keep no impulse and their bodies; islands with no row need no solve.
+  const auto solvable = [&](int i) {
+    const bool has_rows = work.row_start[static_cast<std::size_t>(i) + 1] >
+                          work.row_start[static_cast<std::size_t>(i)];
+    if (!island_awake.empty() && island_awake[static_cast<std::size_t>(i)] == 0) {
+      for (int j = work.row_start[static_cast<std::size_t>(i)];
+           j < work.row_start[static_cast<std::size_t>(i) + 1]; ++j)
+        lambda[static_cast<std::size_t>(work.row_list[static_cast<std::size_t>(j)])] = 0.0;
+      return false;
+    }
+    return has_rows;
+  };
+  const auto rowCount = [&](int i) {
+    return work.row_start[static_cast<std::size_t>(i) + 1] -
+           work.row_start[static_cast<std::size_t>(i)];
+  };
 
   SolverReport total;
+  work.small.clear();
   for (int i = 0; i < count; ++i) {
-    const auto begin = work.row_list.begin() + work.row_start[static_cast<std::size_t>(i)];
-    const auto end = work.row_list.begin() + work.row_start[static_cast<std::size_t>(i) + 1];
-    if (!island_awake.empty() && island_awake[static_cast<std::size_t>(i)] == 0) {
-      for (auto it = begin; it != end; ++it) lambda[static_cast<std::size_t>(*it)] = 0.0;
+    if (!solvable(i)) continue;
+    if (threads > 1 && rowCount(i) < kParallelRows) {
+      work.small.push_back(i);  // solved side by side below
       continue;
     }
-    if (begin == end) continue;  // nothing to solve: u+ = u*
-
-    // Gather: the island's bodies first (these are scattered back), then any non-movable body a
-    // row refers to (read only).
-    work.gathered.clear();
-    auto local = [&](int body) {
-      if (body < 0) return -1;
-      int& l = work.local_body[static_cast<std::size_t>(body)];
-      if (l < 0) {
-        l = static_cast<int>(work.gathered.size());
-        work.gathered.push_back(body);
-      }
-      return l;
-    };
-    for (const int b : islands.bodies(i)) local(b);
-    const std::size_t own = work.gathered.size();
-    const auto m = static_cast<std::size_t>(end - begin);
-    work.rows.resize(m);
-    work.lambda.resize(m);
-    parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows,
-                      [&](std::ptrdiff_t j) {
-                        work.local_row[static_cast<std::size_t>(begin[j])] = static_cast<int>(j);
-                      });
-    for (std::size_t j = 0; j < m; ++j) {  // number the bodies first, in row order
-      const Row& r = rows[static_cast<std::size_t>(begin[static_cast<std::ptrdiff_t>(j)])];
-      local(r.body_a);
-      local(r.body_b);
-    }
-    parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows,
-                      [&](std::ptrdiff_t j) {  // then copy the rows, each to its own slot
-                        const auto k = static_cast<std::size_t>(begin[j]);
-                        Row& r = work.rows[static_cast<std::size_t>(j)];
-                        r = rows[k];
-                        if (r.body_a >= 0)
-                          r.body_a = work.local_body[static_cast<std::size_t>(r.body_a)];
-                        if (r.body_b >= 0)
-                          r.body_b = work.local_body[static_cast<std::size_t>(r.body_b)];
-                        if (r.normal >= 0)
-                          r.normal = work.local_row[static_cast<std::size_t>(r.normal)];
-                        work.lambda[static_cast<std::size_t>(j)] = lambda[k];
-                      });
-    work.bodies.resize(work.gathered.size());
-    parallel::forEach(
-        static_cast<std::ptrdiff_t>(work.gathered.size()), threads, kParallelRows,
-        [&](std::ptrdiff_t l) {
-          work.bodies[static_cast<std::size_t>(l)] =
-              bodies[static_cast<std::size_t>(work.gathered[static_cast<std::size_t>(l)])];
-        });
-
-    solver::Problem problem{work.rows, work.bodies, work.lambda, h, threads};
-    const SolverReport report = solver.solve(problem, settings);
-
-    // Scatter.
-    parallel::forEach(
-        static_cast<std::ptrdiff_t>(m), threads, kParallelRows, [&](std::ptrdiff_t j) {
-          lambda[static_cast<std::size_t>(begin[j])] = work.lambda[static_cast<std::size_t>(j)];
-        });
-    parallel::forEach(
-        static_cast<std::ptrdiff_t>(own), threads, kParallelRows, [&](std::ptrdiff_t l) {
-          bodies[static_cast<std::size_t>(work.gathered[static_cast<std::size_t>(l)])] =
-              work.bodies[static_cast<std::size_t>(l)];
-        });
-    for (const int b : work.gathered) work.local_body[static_cast<std::size_t>(b)] = -1;
-
-    total.rows += report.rows;
-    total.iterations = std::max(total.iterations, report.iterations);
-    total.residual = std::max(total.residual, report.residual);
-    total.redundant_rows += report.redundant_rows;
-    total.converged = total.converged && report.converged;
+    merge(total, solveIsland(i, islands, rows, bodies, lambda, h, solver, settings, work,
+                             work.large, threads));
   }
+  if (work.small.empty()) return total;
+
+  // Small islands side by side: runs of consecutive islands, a run per task, each with its own
+  // buffers and solver. A run's report is merged in run order.
+  const std::size_t tasks = std::min(work.small.size(), 16 * static_cast<std::size_t>(threads));
+  if (work.tasks.size() < tasks) work.tasks.resize(tasks);
+  parallel::forEachTask(static_cast<std::ptrdiff_t>(tasks), threads, [&](std::ptrdiff_t t) {
+    IslandTask& task = work.tasks[static_cast<std::size_t>(t)].value;
+    if (!task.solver || task.solver_type != settings.type) {
+      task.solver = solver::makeSolver(settings.type);
+      task.solver_type = settings.type;
+    }
+    task.report = SolverReport{};
+    const std::size_t first = work.small.size() * static_cast<std::size_t>(t) / tasks;
+    const std::size_t last = work.small.size() * static_cast<std::size_t>(t + 1) / tasks;
+    for (std::size_t s = first; s < last; ++s)
+      merge(task.report, solveIsland(work.small[s], islands, rows, bodies, lambda, h, *task.solver,
+                                     settings, work, task.problem, 1));
+  });
+  for (std::size_t t = 0; t < tasks; ++t) merge(total, work.tasks[t].value.report);
   return total;
 }
 

@@ -7,10 +7,12 @@
 #include <linx/row.hpp>
 #include <linx/solver.hpp>
 
+#include "parallel/task_output.hpp"
 #include "solver/problem.hpp"
 #include "world/islands.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
@@ -21,17 +23,34 @@ namespace linx::world {
 /// the rows of island i. Reuses `links`' storage.
 void rowLinks(std::span<const Row> rows, std::vector<std::pair<int, int>>& links);
 
+/// One island's problem, gathered: its rows with local body indices, its bodies (its own movable
+/// bodies first, in Islands::bodies order, then the non-movable bodies its rows refer to, in
+/// ascending index) and its impulses.
+struct IslandProblem {
+  std::vector<int> statics;  ///< the non-movable bodies the rows refer to, ascending
+  std::vector<Row> rows;
+  std::vector<solver::SolverBody> bodies;
+  std::vector<double> lambda;
+};
+
+/// The buffers of one run of islands solved on one thread, with its own solver instance.
+struct IslandTask {
+  IslandProblem problem;
+  std::unique_ptr<solver::ConstraintSolver> solver;
+  SolverType solver_type = SolverType::Auto;  ///< what `solver` is
+  SolverReport report;                        ///< of the islands this task solved, merged
+};
+
 /// Reusable buffers of solveIslands: no allocation once they have grown to the problem's size
-/// (the solver's own buffers aside).
+/// (the solvers' own buffers aside).
 struct IslandWorkspace {
   std::vector<int> row_island;           ///< island of each row, -1 for none
   std::vector<int> row_start, row_list;  ///< rows of each island (CSR, ascending)
-  std::vector<int> local_row;            ///< global row -> local row index of its island
-  std::vector<int> local_body;           ///< global body -> local body index (-1 when not gathered)
-  std::vector<int> gathered;             ///< local body -> global body, of the island being solved
-  std::vector<Row> rows;                 ///< the island's rows, with local body indices
-  std::vector<solver::SolverBody> bodies;  ///< the island's bodies
-  std::vector<double> lambda;              ///< the island's impulses
+  std::vector<int> local_row;            ///< global row -> its index among its island's rows
+  std::vector<int> local_body;           ///< movable body -> its index among its island's bodies
+  IslandProblem large;                   ///< islands solved one after another, each on every thread
+  std::vector<int> small;                ///< islands solved side by side, ascending
+  std::vector<parallel::TaskOutput<IslandTask>> tasks;  ///< runs of `small`, one per task
 };
 
 /// Solves the rows of each awake island separately with `solver`.
@@ -47,7 +66,11 @@ struct IslandWorkspace {
 /// lambda: one per row; on entry the warm start, on exit the impulses. Rows of islands that are
 ///   not awake get lambda 0 and their bodies are left untouched.
 /// island_awake: one flag per island (islands.count()), or empty for all awake.
-/// `threads` go to each island's solve (Problem::threads).
+/// `threads`: islands of 4,096 rows and more are solved one after another, each with all the
+///   threads (Problem::threads); smaller islands are solved side by side, in runs of consecutive
+///   islands, each run on one thread with its own solver of settings.type (the given `solver` on
+///   one thread). Every island's solve depends on its own rows alone, so the results are the same
+///   for any count.
 /// Returns the islands' reports merged: rows summed over the solved islands, iterations and
 /// residual the largest, redundant rows summed, converged if every island converged.
 SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> island_awake,
