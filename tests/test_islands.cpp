@@ -403,6 +403,39 @@ TEST(IslandSolver, SleepingIslandGetsZeroImpulsesAndUntouchedBodies) {
   }
 }
 
+TEST(IslandSolver, ThreadsSolveIslandsSideBySideWithTheGivenSolver) {
+  // On several threads the islands are solved side by side, each task with another() of the
+  // given solver: the same impulses and velocities to the bit as on one thread, even when the
+  // settings name another solver type than the one given (here Auto, which would pick PGS for
+  // the island with friction).
+  for (const SolverType type : {SolverType::Exact, SolverType::Pgs}) {
+    SCOPED_TRACE(std::string(solverTypeName(type)));
+    SolverSettings settings = settingsFor(type);
+    settings.type = SolverType::Auto;
+    TwoPendulums one;
+    auto solver = solver::makeSolver(type);
+    world::IslandWorkspace work;
+    const SolverReport r1 = world::solveIslands(one.islands, {}, one.rows, one.bodies, one.lambda,
+                                                1e-3, *solver, settings, work, 1);
+    for (const int threads : {2, 3}) {
+      TwoPendulums s;
+      world::IslandWorkspace many;
+      const SolverReport r = world::solveIslands(s.islands, {}, s.rows, s.bodies, s.lambda, 1e-3,
+                                                 *solver, settings, many, threads);
+      EXPECT_EQ(s.lambda, one.lambda) << threads << " threads";
+      for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+        EXPECT_EQ(s.bodies[i].v, one.bodies[i].v) << "body " << i;
+        EXPECT_EQ(s.bodies[i].w, one.bodies[i].w) << "body " << i;
+      }
+      EXPECT_EQ(r.rows, r1.rows);
+      EXPECT_EQ(r.iterations, r1.iterations);
+      EXPECT_EQ(r.residual, r1.residual);
+      EXPECT_EQ(r.converged, r1.converged);
+      EXPECT_EQ(r.redundant_rows, r1.redundant_rows);
+    }
+  }
+}
+
 TEST(IslandSolver, RowsTouchingNothingMovableAreNotSolved) {
   TwoPendulums s;
   Row stray = pointRow(-1, Vec3::Zero(), 1, Vec3::Zero(), 0, 0.1);  // world to static ground

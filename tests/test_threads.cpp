@@ -164,7 +164,17 @@ TEST(Threads, ManySmallIslandsStepToTheSameStateForAnyThreadCount) {
         ++differing;
     }
     EXPECT_EQ(differing, 0) << threads << " threads";
-    EXPECT_EQ(world.lastReport().rows, reference.lastReport().rows);
+    const SolverReport& x = world.lastReport();
+    const SolverReport& r = reference.lastReport();
+    EXPECT_EQ(x.rows, r.rows);
+    EXPECT_EQ(x.iterations, r.iterations);
+    EXPECT_EQ(x.residual, r.residual);
+    EXPECT_EQ(x.converged, r.converged);
+    ASSERT_EQ(world.contacts().size(), reference.contacts().size());
+    for (std::size_t c = 0; c < world.contacts().size(); ++c) {
+      EXPECT_EQ(world.contacts()[c].normal_impulse, reference.contacts()[c].normal_impulse);
+      EXPECT_EQ(world.contacts()[c].friction_impulse, reference.contacts()[c].friction_impulse);
+    }
   }
 }
 

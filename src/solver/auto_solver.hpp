@@ -16,6 +16,9 @@ namespace linx::solver {
 class AutoSolver final : public ConstraintSolver {
  public:
   SolverReport solve(Problem& p, const SolverSettings& settings) override;
+  std::unique_ptr<ConstraintSolver> another() const override {
+    return std::make_unique<AutoSolver>();
+  }
 
  private:
   ExactSolver exact_;

@@ -22,6 +22,9 @@ namespace linx::solver {
 class ExactSolver final : public ConstraintSolver {
  public:
   SolverReport solve(Problem& p, const SolverSettings& settings) override;
+  std::unique_ptr<ConstraintSolver> another() const override {
+    return std::make_unique<ExactSolver>();
+  }
 
  private:
   enum class State : unsigned char { Free, Lower, Upper };

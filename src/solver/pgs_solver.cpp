@@ -20,6 +20,9 @@ namespace {
 /// 10,000 rows, ran at 0.8 times the speed on two threads).
 constexpr std::size_t kColourRows = 16384;
 constexpr int kColours = 64;  // per phase; rows that find no free colour are swept serially
+/// Rows of a colour from which its warm start is split over the threads (a team costs more than a
+/// few rows).
+constexpr std::ptrdiff_t kParallelWarmRows = 1024;
 }  // namespace
 
 void PgsSolver::planSweep(Problem& p) {
@@ -170,7 +173,7 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   };
   for (const Group& g : groups_) {
     if (g.parallel)
-      parallel::forEach(g.size, threads, 0,
+      parallel::forEach(g.size, threads, kParallelWarmRows,
                         [&](std::ptrdiff_t j) { warm(static_cast<std::size_t>(g.begin + j)); });
     else
       for (int j = 0; j < g.size; ++j) warm(static_cast<std::size_t>(g.begin + j));
@@ -261,7 +264,7 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
                     });
   const std::size_t chunks = n >= kColourRows ? static_cast<std::size_t>(threads) : 1;
   thread_violation_.assign(chunks, 0.0);
-  parallel::forEach(static_cast<std::ptrdiff_t>(chunks), threads, 0, [&](std::ptrdiff_t c) {
+  parallel::forEach(static_cast<std::ptrdiff_t>(chunks), threads, 2, [&](std::ptrdiff_t c) {
     const auto chunk = static_cast<std::size_t>(c);
     double residual = 0.0;
     for (std::size_t k = n * chunk / chunks; k < n * (chunk + 1) / chunks; ++k) {

@@ -3,6 +3,7 @@
 #include "solver/problem.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace linx::solver {
@@ -24,6 +25,9 @@ namespace linx::solver {
 class PgsSolver final : public ConstraintSolver {
  public:
   SolverReport solve(Problem& p, const SolverSettings& settings) override;
+  std::unique_ptr<ConstraintSolver> another() const override {
+    return std::make_unique<PgsSolver>();
+  }
 
  private:
   struct Velocity {

@@ -36,6 +36,9 @@ class ConstraintSolver {
  public:
   virtual ~ConstraintSolver() = default;
   virtual SolverReport solve(Problem& problem, const SolverSettings& settings) = 0;
+  /// A new solver of the same kind, with empty buffers (threads solving islands side by side
+  /// each use their own).
+  virtual std::unique_ptr<ConstraintSolver> another() const = 0;
 };
 
 /// A solver of the given type.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <typeinfo>
 
 namespace linx::world {
 
@@ -183,10 +184,7 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
   if (work.tasks.size() < tasks) work.tasks.resize(tasks);
   parallel::forEachTask(static_cast<std::ptrdiff_t>(tasks), threads, [&](std::ptrdiff_t t) {
     IslandTask& task = work.tasks[static_cast<std::size_t>(t)].value;
-    if (!task.solver || task.solver_type != settings.type) {
-      task.solver = solver::makeSolver(settings.type);
-      task.solver_type = settings.type;
-    }
+    if (!task.solver || typeid(*task.solver) != typeid(solver)) task.solver = solver.another();
     task.report = SolverReport{};
     const std::size_t first = work.small.size() * static_cast<std::size_t>(t) / tasks;
     const std::size_t last = work.small.size() * static_cast<std::size_t>(t + 1) / tasks;

@@ -36,9 +36,8 @@ struct IslandProblem {
 /// The buffers of one run of islands solved on one thread, with its own solver instance.
 struct IslandTask {
   IslandProblem problem;
-  std::unique_ptr<solver::ConstraintSolver> solver;
-  SolverType solver_type = SolverType::Auto;  ///< what `solver` is
-  SolverReport report;                        ///< of the islands this task solved, merged
+  std::unique_ptr<solver::ConstraintSolver> solver;  ///< another() of the given solver
+  SolverReport report;                               ///< of the islands this task solved, merged
 };
 
 /// Reusable buffers of solveIslands: no allocation once they have grown to the problem's size
@@ -68,9 +67,9 @@ struct IslandWorkspace {
 /// island_awake: one flag per island (islands.count()), or empty for all awake.
 /// `threads`: islands of 4,096 rows and more are solved one after another, each with all the
 ///   threads (Problem::threads); smaller islands are solved side by side, in runs of consecutive
-///   islands, each run on one thread with its own solver of settings.type (the given `solver` on
-///   one thread). Every island's solve depends on its own rows alone, so the results are the same
-///   for any count.
+///   islands, each run on one thread with its own solver (`solver.another()`; the given `solver`
+///   itself on one thread). Every island's solve depends on its own rows alone, so the results are
+///   the same for any count.
 /// Returns the islands' reports merged: rows summed over the solved islands, iterations and
 /// residual the largest, redundant rows summed, converged if every island converged.
 SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> island_awake,

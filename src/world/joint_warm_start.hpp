@@ -3,7 +3,9 @@
 // limit turns on or off, or a joint is added), so keys are matched by position first and, past
 // the first mismatch, through a sorted copy of the previous keys. Nothing allocates once the
 // buffers have grown to the number of joint rows: a hash map of keys allocated a node per row
-// per step (5,000 per step on a 1000-link chain).
+// per step (5,000 per step on a 1000-link chain). Keys are unique among a step's joint rows (a
+// joint's id and the row's slot): with a repeated key, a row would get the impulse of the row at
+// its own position, or, past a mismatch, of the last stored row with that key.
 #pragma once
 
 #include <linx/row.hpp>
