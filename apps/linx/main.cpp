@@ -206,8 +206,9 @@ int main(int argc, char** argv) {
     if (duration_opt->count()) options.duration = positiveFlag("--duration", duration);
     if (timestep_opt->count()) options.timestep = positiveFlag("--timestep", timestep);
     if (threads_opt->count()) {
-      if (threads < 0 || threads > 1024)
-        throw BadInput(fmt::format("--threads: must be an integer in [0, 1024], got {}", threads));
+      if (threads < 0 || threads > linx::kMaxThreads)
+        throw BadInput(fmt::format("--threads: must be an integer in [0, {}], got {}",
+                                   linx::kMaxThreads, threads));
       options.threads = threads;
     }
     return *check_cmd ? check(options) : run(options);

@@ -35,6 +35,10 @@ class NonFiniteState : public std::runtime_error {
   double time_;
 };
 
+/// The most worker threads a world accepts (WorldSettings::threads, a scene's `threads`,
+/// `linx run --threads`).
+inline constexpr int kMaxThreads = 1024;
+
 struct WorldSettings {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< (m/s^2), world frame
   double timestep = 1e-3;                ///< (s)
@@ -44,7 +48,7 @@ struct WorldSettings {
   /// Worker threads of a step (collision, per-body stages and the PGS sweep of large islands):
   /// 0 for one per hardware thread. Results are the same to the bit for any count. One by
   /// default, as in the peers: programs that run several worlds at once keep their cores.
-  int threads = 1;
+  int threads = 1;  ///< in [0, kMaxThreads]
 };
 
 struct JointId {

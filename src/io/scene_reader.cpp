@@ -192,8 +192,9 @@ class Reader {
     if (auto n = get(node, "duration")) scene.duration = positive(*n);
     if (auto n = get(node, "threads")) {
       scene.settings.threads = integer(*n, 0);
-      if (scene.settings.threads > 1024)
-        fail(n->path, fmt::format("must be at most 1024, got {}", scene.settings.threads));
+      if (scene.settings.threads > kMaxThreads)
+        fail(n->path,
+             fmt::format("must be at most {}, got {}", kMaxThreads, scene.settings.threads));
     }
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
     if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);

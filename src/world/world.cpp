@@ -37,7 +37,6 @@ namespace linx {
 namespace {
 /// Bodies from which the per-body stages of a step are split over the threads.
 constexpr std::ptrdiff_t kParallelBodies = 4096;
-constexpr int kMaxThreads = 1024;
 }  // namespace
 
 struct World::Impl {
