@@ -149,27 +149,18 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
   }
 
   // Sleeping islands keep no impulse and their bodies; islands with no row need no solve.
-  const auto solvable = [&](int i) {
-    const bool has_rows = work.row_start[static_cast<std::size_t>(i) + 1] >
-                          work.row_start[static_cast<std::size_t>(i)];
-    if (!island_awake.empty() && island_awake[static_cast<std::size_t>(i)] == 0) {
-      for (int j = work.row_start[static_cast<std::size_t>(i)];
-           j < work.row_start[static_cast<std::size_t>(i) + 1]; ++j)
-        lambda[static_cast<std::size_t>(work.row_list[static_cast<std::size_t>(j)])] = 0.0;
-      return false;
-    }
-    return has_rows;
-  };
-  const auto rowCount = [&](int i) {
-    return work.row_start[static_cast<std::size_t>(i) + 1] -
-           work.row_start[static_cast<std::size_t>(i)];
-  };
-
   SolverReport total;
   work.small.clear();
   for (int i = 0; i < count; ++i) {
-    if (!solvable(i)) continue;
-    if (threads > 1 && rowCount(i) < kParallelRows) {
+    const int first = work.row_start[static_cast<std::size_t>(i)];
+    const int last = work.row_start[static_cast<std::size_t>(i) + 1];
+    if (!island_awake.empty() && island_awake[static_cast<std::size_t>(i)] == 0) {
+      for (int j = first; j < last; ++j)
+        lambda[static_cast<std::size_t>(work.row_list[static_cast<std::size_t>(j)])] = 0.0;
+      continue;
+    }
+    if (first == last) continue;
+    if (threads > 1 && last - first < kParallelRows) {
       work.small.push_back(i);  // solved side by side below
       continue;
     }
