@@ -48,6 +48,28 @@ World pile(int threads) {
   return world;
 }
 
+/// Bodies whose pose or velocity is not the same to the bit in both worlds.
+int differingBodies(const World& world, const World& reference) {
+  int differing = 0;
+  for (int b = 0; b < world.bodyCount(); ++b) {
+    const Body& x = world.body(BodyId{b});
+    const Body& r = reference.body(BodyId{b});
+    if (x.position() != r.position() || x.orientation().coeffs() != r.orientation().coeffs() ||
+        x.linearVelocity() != r.linearVelocity() || x.angularVelocity() != r.angularVelocity())
+      ++differing;
+  }
+  return differing;
+}
+
+/// The same contacts, with the same impulses to the bit.
+void expectSameContacts(const World& world, const World& reference) {
+  ASSERT_EQ(world.contacts().size(), reference.contacts().size());
+  for (std::size_t c = 0; c < world.contacts().size(); ++c) {
+    EXPECT_EQ(world.contacts()[c].normal_impulse, reference.contacts()[c].normal_impulse);
+    EXPECT_EQ(world.contacts()[c].friction_impulse, reference.contacts()[c].friction_impulse);
+  }
+}
+
 TEST(Threads, APileStepsToTheSameStateForAnyThreadCount) {
   constexpr int kSteps = 3;
   World reference = pile(1);
@@ -64,23 +86,12 @@ TEST(Threads, APileStepsToTheSameStateForAnyThreadCount) {
   for (const int threads : {2, 3}) {
     World world = pile(threads);
     for (int i = 0; i < kSteps; ++i) world.step();
-    int differing = 0;
-    for (int b = 0; b < world.bodyCount(); ++b) {
-      const Body& x = world.body(BodyId{b});
-      const Body& r = reference.body(BodyId{b});
-      if (x.position() != r.position() || x.orientation().coeffs() != r.orientation().coeffs() ||
-          x.linearVelocity() != r.linearVelocity() || x.angularVelocity() != r.angularVelocity())
-        ++differing;
-    }
+    const int differing = differingBodies(world, reference);
     std::printf("%d threads: %d of %d bodies differ from one thread (%zu contacts, %d rows)\n",
                 threads, differing, world.bodyCount(), world.contacts().size(),
                 world.lastReport().rows);
     EXPECT_EQ(differing, 0);
-    ASSERT_EQ(world.contacts().size(), reference.contacts().size());
-    for (std::size_t c = 0; c < world.contacts().size(); ++c) {
-      EXPECT_EQ(world.contacts()[c].normal_impulse, reference.contacts()[c].normal_impulse);
-      EXPECT_EQ(world.contacts()[c].friction_impulse, reference.contacts()[c].friction_impulse);
-    }
+    expectSameContacts(world, reference);
   }
 }
 
@@ -155,14 +166,7 @@ TEST(Threads, ManySmallIslandsStepToTheSameStateForAnyThreadCount) {
   for (const int threads : {2, 3}) {
     World world = islands(threads);
     for (int i = 0; i < kSteps; ++i) world.step();
-    int differing = 0;
-    for (int b = 0; b < world.bodyCount(); ++b) {
-      const Body& x = world.body(BodyId{b});
-      const Body& r = reference.body(BodyId{b});
-      if (x.position() != r.position() || x.orientation().coeffs() != r.orientation().coeffs() ||
-          x.linearVelocity() != r.linearVelocity() || x.angularVelocity() != r.angularVelocity())
-        ++differing;
-    }
+    const int differing = differingBodies(world, reference);
     EXPECT_EQ(differing, 0) << threads << " threads";
     const SolverReport& x = world.lastReport();
     const SolverReport& r = reference.lastReport();
@@ -170,11 +174,7 @@ TEST(Threads, ManySmallIslandsStepToTheSameStateForAnyThreadCount) {
     EXPECT_EQ(x.iterations, r.iterations);
     EXPECT_EQ(x.residual, r.residual);
     EXPECT_EQ(x.converged, r.converged);
-    ASSERT_EQ(world.contacts().size(), reference.contacts().size());
-    for (std::size_t c = 0; c < world.contacts().size(); ++c) {
-      EXPECT_EQ(world.contacts()[c].normal_impulse, reference.contacts()[c].normal_impulse);
-      EXPECT_EQ(world.contacts()[c].friction_impulse, reference.contacts()[c].friction_impulse);
-    }
+    expectSameContacts(world, reference);
   }
 }
 
