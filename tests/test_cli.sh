@@ -90,10 +90,10 @@ case "$case_name" in
   run_pendulum)
     expect 0 "$linx" run "$examples/pendulum.json" --out out --duration 0.05
     [ -s err.txt ] && fail "stderr is not a terminal: no progress bar expected"
-    [ "$(cat out.txt)" = "wrote 3 files to out (51 frames, 50 steps, t = $(awk -F, 'END {print $1}' out/world.csv) s)" ] ||
+    [ "$(cat out.txt)" = "wrote 4 files to out (51 frames, 50 steps, t = $(awk -F, 'END {print $1}' out/world.csv) s)" ] ||
       fail "unexpected summary line"
     # shellcheck disable=SC2012  # plain file names
-    [ "$(ls -A out | tr '\n' ' ')" = "bodies.csv joints.csv world.csv " ] || fail "unexpected files: $(ls -A out)"
+    [ "$(ls -A out | tr '\n' ' ')" = "bodies.csv joints.csv scene.json world.csv " ] || fail "unexpected files: $(ls -A out)"
     [ "$(head -n 1 out/bodies.csv)" = "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz" ] || fail "bodies.csv header"
     [ "$(head -n 1 out/joints.csv)" = "time,joint,coordinate,error" ] || fail "joints.csv header"
     [ "$(head -n 1 out/world.csv)" = "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual" ] ||
@@ -117,7 +117,7 @@ case "$case_name" in
     # The ball of bouncing_ball.json lands after 0.45 s: contacts.csv lists the ground-ball points,
     # their normal from ground to ball and a positive impulse at the impact.
     expect 0 "$linx" run "$examples/bouncing_ball.json" --out out --duration 0.6 --contacts
-    grep -q "^wrote 4 files to out " out.txt || fail "summary: expected 4 files"
+    grep -q "^wrote 5 files to out " out.txt || fail "summary: expected 5 files"
     [ "$(head -n 1 out/contacts.csv)" = "time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse" ] ||
       fail "contacts.csv header"
     awk -F, 'NR > 1 && $2 == "ground" && $3 == "ball" && $7 == 0 && $8 == 0 && $9 == 1 {n++}
@@ -217,6 +217,74 @@ EOF
     [ "$status" -eq 130 ] || fail "interrupted run exited with $status, expected 130"
     expect_error_line "linx: $examples/hinge_chain.json: interrupted at step "
     expect_no_output_dir out
+    ;;
+
+  plot)
+    # linx plot: four PNG pictures of the asked size and their SVGs, drawn from the run's numbers.
+    expect 0 "$linx" run "$examples/double_pendulum.json" --out run --duration 0.5 --every 10
+    expect 0 "$linx" plot run --width 640 --height 360
+    [ "$(cat out.txt)" = "wrote 4 plots to run/plots (PNG and SVG): energy, joint_coordinates, joint_errors, solver" ] ||
+      fail "unexpected summary"
+    for p in energy joint_coordinates joint_errors solver; do
+      # PNG signature, then the IHDR chunk's width and height (big-endian) at bytes 16-23.
+      [ "$(head -c 8 run/plots/$p.png | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] ||
+        fail "$p.png is not a PNG"
+      [ "$(od -An -tu1 -j16 -N8 run/plots/$p.png | tr -s ' ' | sed 's/^ //')" = "0 0 2 128 0 0 1 104" ] ||
+        fail "$p.png is not 640x360"
+      [ "$(stat -c %s run/plots/$p.png)" -gt 10000 ] || fail "$p.png is nearly empty"
+      grep -q "<svg" run/plots/$p.svg || fail "$p.svg is not an SVG"
+      grep -q "<path" run/plots/$p.svg || fail "$p.svg draws no curve"
+    done
+    # The energy plot's data are world.csv's columns, one line per frame.
+    awk '/^\$energy << EOD/ {on = 1; next} /^EOD/ {on = 0} on' run/plots/plots.gp >plotted.txt
+    awk -F, 'NR > 1 {print $1, $2, $3, $4}' run/world.csv >recorded.txt
+    [ "$(wc -l <plotted.txt)" -eq "$(wc -l <recorded.txt)" ] && [ "$(wc -l <plotted.txt)" -gt 5 ] ||
+      fail "energy plot: expected one point per frame"
+    awk 'NR == FNR {a[FNR] = $0; next} {split(a[FNR], x, " "); for (i = 1; i <= 4; i++)
+         if (x[i] + 0 != $i + 0) exit 1}' recorded.txt plotted.txt || fail "energy plot: data differ from world.csv"
+    [ -z "$(ls -A run/plots | grep '^\.')" ] || fail "temporary files left: $(ls -A run/plots)"
+    # A run without joints whose solver residual is 0 throughout: nothing for a log scale, so the
+    # solver plot is drawn on a linear scale (and said so in its title) instead of failing.
+    expect 0 "$linx" run "$examples/bouncing_ball.json" --out ball --duration 0.2
+    expect 0 "$linx" plot ball
+    [ "$(cat out.txt)" = "wrote 2 plots to ball/plots (PNG and SVG): energy, solver" ] ||
+      fail "unexpected summary for a run without joints"
+    grep -q '^set title "Solver (last step of each frame; all zero, linear scale)"$' ball/plots/plots.gp ||
+      fail "solver plot: expected a linear scale for an all-zero residual"
+    for p in energy solver; do
+      [ "$(stat -c %s ball/plots/$p.png)" -gt 10000 ] || fail "ball: $p.png is nearly empty"
+    done
+    [ -z "$(ls -A ball/plots | grep '^\.')" ] || fail "temporary files left: $(ls -A ball/plots)"
+    # gnuplot missing from PATH, or failing: one line each, told apart, and no temporary file left
+    # (the failure's message carries the end of gnuplot's output, so its log is not kept).
+    mkdir nobin fakebin
+    expect 1 env PATH="$work/nobin" "$linx" plot ball
+    expect_error_line "linx: plot: gnuplot not found on PATH"
+    printf '#!/bin/sh\necho "bad plot" >&2\nexit 3\n' >fakebin/gnuplot
+    chmod +x fakebin/gnuplot
+    expect 1 env PATH="$work/fakebin:$PATH" "$linx" plot ball
+    expect_error_line "linx: gnuplot failed (exit status 3) on ball/plots/plots.gp: bad plot"
+    [ -z "$(ls -A ball/plots | grep '^\.')" ] || fail "temporary files left: $(ls -A ball/plots)"
+    # A joint name with a newline stays inside its title: it does not become gnuplot commands.
+    cat >named.json <<'EOF'
+{"gravity": [0, 0, -9.81], "timestep": 0.001, "duration": 0.05,
+ "bodies": [{"name": "bob", "mass": 1, "position": [1, 0, 0],
+             "shapes": [{"type": "sphere", "radius": 0.05}]}],
+ "joints": [{"name": "pin\nprint \"injected\"", "type": "hinge", "body1": "bob", "body2": "world",
+             "anchor": [0, 0, 0], "axis": [0, 1, 0]}]}
+EOF
+    expect 0 "$linx" run named.json --out named
+    expect 0 "$linx" plot named
+    grep -q '^print' named/plots/plots.gp && fail "a joint name's newline reached plots.gp"
+    grep -qF 'title "pin print \"injected\" (hinge)"' named/plots/plots.gp ||
+      fail "the joint's title is not on one line"
+    # A folder that is not a run: one line naming the file, exit status 2, no plots.
+    mkdir empty
+    expect 2 "$linx" plot empty
+    expect_error_line "linx: empty/scene.json: file: cannot be read"
+    [ ! -e empty/plots ] || fail "plots written for a bad folder"
+    expect 2 "$linx" plot run --width 5
+    expect_error_line "linx: --width: must be an integer in [100, 10000], got 5"
     ;;
 
   *)

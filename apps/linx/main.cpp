@@ -1,11 +1,18 @@
-// The `linx` command line (docs/scene-format.md, "Command line"):
+// The `linx` command line (docs/scene-format.md, "Command line"; docs/visualization.md):
 //   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--threads N] [--every N]
-//            [--contacts]
+//            [--contacts] [--vtk] [--render]
 //   linx check SCENE.json
+//   linx render DIR ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
 // (scene, flags, usage), 3 the simulation state became non-finite, 130 interrupted.
+#include "cli_common.hpp"
+#include "plot_command.hpp"
 #include "progress.hpp"
+#include "render_command.hpp"
+#include "view_command.hpp"
+#include "viz/run.hpp"
+#include "viz/vtk.hpp"
 
 #include <linx/linx.hpp>
 
@@ -29,19 +36,14 @@
 
 namespace {
 
-constexpr int kExitFailure = 1;
-constexpr int kExitBadInput = 2;
-constexpr int kExitNonFinite = 3;
-constexpr int kExitInterrupted = 130;
+using linx::cli::BadInput;
+using linx::cli::kExitBadInput;
+using linx::cli::kExitFailure;
+using linx::cli::kExitInterrupted;
+using linx::cli::kExitNonFinite;
 
 // Runs longer than this are refused: step numbers and times stay exact in a double.
 constexpr double kMaxSteps = 1e15;
-
-// A bad flag value: reported like a scene error, exit status 2.
-class BadInput : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 volatile std::sig_atomic_t g_signal = 0;
 
@@ -56,6 +58,8 @@ struct RunOptions {
   std::optional<int> threads;
   int every = 1;
   bool contacts = false;
+  bool vtk = false;     // also write ParaView files (DIR/vtk/, DIR/run.pvd)
+  bool render = false;  // then render POV-Ray frames (linx render DIR)
 };
 
 double positiveFlag(const char* flag, double value) {
@@ -109,6 +113,8 @@ int check(const RunOptions& options) {
   return 0;
 }
 
+int writeVtk(const std::string& dir);
+
 int run(const RunOptions& options) {
   if (options.every < 1) {
     throw BadInput(fmt::format("--every: must be at least 1, got {}", options.every));
@@ -125,6 +131,7 @@ int run(const RunOptions& options) {
   std::signal(SIGTERM, onSignal);
 
   linx::Recorder recorder(options.out, linx::RecorderOptions{.contacts = options.contacts});
+  recorder.addFile("scene.json", linx::runSceneJson(p.scene, world, options.every));
   recorder.record(world);
   std::int64_t frames = 1;
   linx::cli::ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr, p.steps,
@@ -151,8 +158,18 @@ int run(const RunOptions& options) {
   }
   progress.clear();
   recorder.commit();
-  fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n", options.contacts ? 4 : 3,
+  fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n", options.contacts ? 5 : 4,
              options.out, frames, p.steps, world.time());
+  if (options.vtk) writeVtk(options.out);
+  if (options.render) return linx::cli::render(linx::cli::RenderOptions{.dir = options.out});
+  return 0;
+}
+
+int writeVtk(const std::string& dir) {
+  const linx::viz::Run run = linx::viz::readRun(dir);
+  const linx::viz::VtkSummary written = linx::viz::writeVtk(run, dir);
+  fmt::print("wrote {} ({} frames in {})\n", written.collection.string(), written.frames,
+             written.folder.string());
   return 0;
 }
 
@@ -190,8 +207,30 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run_cmd->add_flag("--contacts", options.contacts,
                     "Also write contacts.csv (every contact point of each recorded step)");
+  run_cmd->add_flag(
+      "--vtk", options.vtk,
+      "Also write ParaView files: DIR/vtk/*.vtp per frame and the DIR/run.pvd series");
+  run_cmd->add_flag("--render", options.render,
+                    "Then render POV-Ray frames and a video, as linx render DIR does");
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a scene and summarize it");
   check_cmd->add_option("scene", options.scene, "Scene file (JSON)")->required();
+
+  linx::cli::RenderOptions render_options;
+  CLI::App* render_cmd =
+      app.add_subcommand("render", "Render a run's frames with POV-Ray (PNG, and MP4 or GIF)");
+  linx::cli::addRenderOptions(*render_cmd, render_options);
+  std::string vtk_dir;
+  CLI::App* vtk_cmd = app.add_subcommand(
+      "vtk", "Write a run's frames as ParaView files (DIR/vtk/*.vtp and DIR/run.pvd)");
+  vtk_cmd->add_option("dir", vtk_dir, "Output folder of linx run")->required();
+  linx::cli::PlotOptions plot_options;
+  CLI::App* plot_cmd = app.add_subcommand(
+      "plot", "Plot a run's energies, joint coordinates and errors, and solver residuals");
+  linx::cli::addPlotOptions(*plot_cmd, plot_options);
+  linx::cli::ViewOptions view_options;
+  CLI::App* view_cmd =
+      app.add_subcommand("view", "Serve a 3D viewer of a run on 127.0.0.1 for a browser");
+  linx::cli::addViewOptions(*view_cmd, view_options);
 
   try {
     app.parse(argc, argv);
@@ -211,15 +250,25 @@ int main(int argc, char** argv) {
                                    linx::kMaxThreads, threads));
       options.threads = threads;
     }
+    if (*render_cmd) return linx::cli::render(render_options);
+    if (*vtk_cmd) return writeVtk(vtk_dir);
+    if (*plot_cmd) return linx::cli::plot(plot_options);
+    if (*view_cmd) return linx::cli::view(view_options);
     return *check_cmd ? check(options) : run(options);
   } catch (const linx::SceneError& e) {
+    fmt::print(stderr, "linx: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const linx::viz::RunError& e) {
     fmt::print(stderr, "linx: {}\n", e.what());
     return kExitBadInput;
   } catch (const BadInput& e) {
     fmt::print(stderr, "linx: {}\n", e.what());
     return kExitBadInput;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "linx: {}: {}\n", options.scene, oneLine(e.what()));
+    if (options.scene.empty())
+      fmt::print(stderr, "linx: {}\n", oneLine(e.what()));
+    else
+      fmt::print(stderr, "linx: {}: {}\n", options.scene, oneLine(e.what()));
     return kExitFailure;
   }
 }

@@ -4,6 +4,7 @@
 //   DIR/world.csv   time,kinetic_energy,potential_energy,total_energy,max_joint_error,
 //                   solver_iterations,residual
 //   DIR/contacts.csv time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse   (when asked for)
+// and any file added with addFile() (the run's scene.json).
 // Files are written under temporary names and renamed by commit(), so an interrupted or failed
 // run never leaves half a file under the final names.
 #pragma once
@@ -12,6 +13,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
 
 namespace linx {
 
@@ -29,6 +31,9 @@ class Recorder {
 
   /// Appends one row per body, one per joint and one for the world at the world's current time.
   void record(const World& world);
+  /// Adds a file DIR/name with the given text, written and renamed with the others by commit()
+  /// (scene.json of a run). `name` is a plain file name.
+  void addFile(const std::string& name, std::string text);
   /// Flushes and renames the files to their final names. Throws std::runtime_error on failure.
   void commit();
 

@@ -6,6 +6,7 @@
 #include <linx/world.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -31,6 +32,15 @@ struct SceneJoint {
   JointDef def;      ///< body ids index Scene::bodies in order
 };
 
+/// The camera of pictures and of the viewer (`view` in a scene file). Fields left out are chosen
+/// from the scene's bounding box when a picture is made (docs/visualization.md, "Camera").
+struct SceneView {
+  std::optional<Vec3> eye;     ///< camera position (m)
+  std::optional<Vec3> target;  ///< the point looked at (m)
+  std::optional<Vec3> up;      ///< unit; default: against gravity
+  double fov = 40.0;           ///< vertical field of view (degrees), in (0, 180)
+};
+
 /// A validated scene: everything needed to build a World and run it.
 struct Scene {
   std::string file;  ///< where it came from (for messages)
@@ -38,6 +48,7 @@ struct Scene {
   double duration = 1.0;  ///< (s)
   std::vector<BodyDef> bodies;
   std::vector<SceneJoint> joints;
+  std::optional<SceneView> view;
 };
 
 /// Reads and validates a scene file. Throws SceneError.
@@ -46,5 +57,11 @@ Scene loadScene(const std::filesystem::path& path);
 Scene parseScene(std::string_view text, const std::string& file);
 /// Builds the world (bodies in order, then joints). Throws SceneError.
 World buildWorld(const Scene& scene);
+
+/// The resolved scene of a run as the text of `scene.json` (docs/scene-format.md, "Outputs"):
+/// bodies with their shapes (hulls and meshes as triangles), joints with their anchors and axes in
+/// the bodies' frames, and the view. `world` is buildWorld(scene) before its first step; `every`
+/// is the run's recording interval (steps per frame).
+std::string runSceneJson(const Scene& scene, const World& world, int every);
 
 }  // namespace linx

@@ -55,7 +55,9 @@ std::runtime_error ioError(std::string_view what, const fs::path& path, int erro
 struct Recorder::Files {
   std::array<std::FILE*, kOutputCount> file{};
   std::array<fs::path, kOutputCount> temp;
-  std::vector<fs::path> created_dirs;  // innermost first
+  std::vector<fs::path> created_dirs;                      // innermost first
+  std::vector<std::pair<std::string, std::string>> extra;  // addFile(): name, text
+  std::vector<fs::path> extra_temp;                        // their temporary files, once written
   bool keep = false;
 
   // Closes the files; without a commit also deletes them and the directories created for them.
@@ -67,6 +69,7 @@ struct Recorder::Files {
     std::error_code ignored;
     for (const fs::path& p : temp)
       if (!p.empty()) fs::remove(p, ignored);
+    for (const fs::path& p : extra_temp) fs::remove(p, ignored);
     for (const fs::path& d : created_dirs) fs::remove(d, ignored);  // only removes empty ones
   }
 };
@@ -133,8 +136,24 @@ void Recorder::record(const World& world) {
   }
 }
 
+void Recorder::addFile(const std::string& name, std::string text) {
+  if (committed_) throw std::logic_error("Recorder::addFile after commit");
+  if (name.empty() || name.find('/') != std::string::npos || name.front() == '.')
+    throw std::invalid_argument(
+        fmt::format("Recorder::addFile: '{}' is not a plain file name", name));
+  files_->extra.emplace_back(name, std::move(text));
+}
+
 void Recorder::commit() {
   if (committed_) return;
+  for (const auto& [name, text] : files_->extra) {
+    const fs::path temp = dir_ / fmt::format(".{}.tmp", name);
+    std::FILE* f = std::fopen(temp.c_str(), "wb");
+    if (!f) throw ioError("create", temp, errno);
+    files_->extra_temp.push_back(temp);
+    const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !written) throw ioError("write", temp, errno);
+  }
   for (int i = 0; i < kOutputCount; ++i) {
     std::FILE* f = std::exchange(files_->file[i], nullptr);
     if (!f) continue;  // an output not asked for
@@ -148,6 +167,13 @@ void Recorder::commit() {
     fs::rename(files_->temp[i], final_path, ec);
     if (ec) throw ioError("rename to", final_path, ec.value());
   }
+  for (std::size_t i = 0; i < files_->extra.size(); ++i) {
+    const fs::path final_path = dir_ / files_->extra[i].first;
+    std::error_code ec;
+    fs::rename(files_->extra_temp[i], final_path, ec);
+    if (ec) throw ioError("rename to", final_path, ec.value());
+  }
+  files_->extra_temp.clear();
   // A contacts.csv left by an earlier run with --contacts would not belong to this one.
   if (files_->temp[kContacts].empty()) {
     std::error_code ec;

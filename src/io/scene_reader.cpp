@@ -183,7 +183,7 @@ class Reader {
     if (!root.is_object())
       fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
     allowOnly(node, {"gravity", "timestep", "duration", "threads", "solver", "contact", "sleep",
-                     "bodies", "joints"});
+                     "bodies", "joints", "view"});
 
     Scene scene;
     scene.file = file_;
@@ -199,6 +199,7 @@ class Reader {
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
     if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);
     if (auto n = get(node, "sleep")) scene.settings.sleep = sleep(*n);
+    if (auto n = get(node, "view")) scene.view = view(*n);
 
     const Node bodies = require(node, "bodies");
     expectArray(bodies);
@@ -340,6 +341,31 @@ class Reader {
     const double length = v.stableNorm();
     if (!(length > 0)) fail(n.path, "must not be zero");
     return v / length;
+  }
+
+  SceneView view(const Node& n) const {
+    expectObject(n);
+    allowOnly(n, {"eye", "target", "up", "fov"});
+    SceneView v;
+    if (auto e = get(n, "eye")) v.eye = vec3(*e);
+    if (auto t = get(n, "target")) {
+      v.target = vec3(*t);
+      if (v.eye && (*v.target - *v.eye).norm() <= 1e-12 * (1 + v.eye->norm()))
+        fail(t->path, "must differ from eye");
+    }
+    if (auto u = get(n, "up")) {
+      v.up = direction(*u);
+      if (v.eye && v.target) {
+        const Vec3 look = (*v.target - *v.eye).normalized();
+        if (look.cross(*v.up).norm() < 1e-6) fail(u->path, "must not be parallel to target - eye");
+      }
+    }
+    if (auto f = get(n, "fov")) {
+      v.fov = number(*f);
+      if (!(v.fov > 0 && v.fov < 180))
+        fail(f->path, fmt::format("must be in (0, 180) degrees, got {}", v.fov));
+    }
+    return v;
   }
 
   // [w, x, y, z], normalized.
