@@ -116,7 +116,9 @@ std::vector<T> dataArray(const std::string& xml, const std::string& name, const 
   EXPECT_EQ(raw.size(), sizeof bytes + bytes) << name;
   EXPECT_EQ(bytes % (sizeof(T) * static_cast<std::size_t>(components)), 0u) << name;
   std::vector<T> values(bytes / sizeof(T));
-  std::memcpy(values.data(), raw.data() + sizeof bytes, values.size() * sizeof(T));
+  // An empty array (a frame without contacts) has no data to copy: memcpy must not see its null.
+  if (!values.empty())
+    std::memcpy(values.data(), raw.data() + sizeof bytes, values.size() * sizeof(T));
   return values;
 }
 
