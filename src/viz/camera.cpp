@@ -6,9 +6,6 @@
 
 namespace linx::viz {
 
-namespace {
-
-// Radius of a sphere about the shape's origin that holds the whole shape.
 double boundingRadius(const ShapeDef& s) {
   switch (s.type) {
     case ShapeType::Sphere:
@@ -31,30 +28,29 @@ double boundingRadius(const ShapeDef& s) {
   return 0;
 }
 
-// Half the extents of the shape's axis-aligned box in the world frame, about the shape's origin,
-// when the shape frame is turned by `q` (tighter than a bounding sphere for long shapes).
-Vec3 halfExtents(const ShapeDef& s, const Quat& q) {
-  const Eigen::Matrix3d r = q.toRotationMatrix();
-  const Vec3 axis = r.col(2);  // capsules and cylinders are along the shape's z axis
+double shapeExtent(const ShapeDef& s, const Quat& q, const Vec3& dir) {
+  const Vec3 u = q.conjugate() * dir;  // dir in the shape frame
   switch (s.type) {
+    case ShapeType::Sphere:
+      return s.radius;
     case ShapeType::Box:
-      return r.cwiseAbs() * (s.size / 2);
-    case ShapeType::Capsule:
-      return axis.cwiseAbs() * (s.length / 2) + Vec3::Constant(s.radius);
+      return (s.size / 2).dot(u.cwiseAbs());
+    case ShapeType::Capsule:  // capsules and cylinders are along the shape's z axis
+      return std::abs(u.z()) * s.length / 2 + s.radius;
     case ShapeType::Cylinder:
-      return axis.cwiseAbs() * (s.length / 2) +
-             s.radius * (Vec3::Ones() - axis.cwiseProduct(axis)).cwiseMax(0.0).cwiseSqrt();
-    case ShapeType::Convex: {
-      Vec3 e = Vec3::Zero();
-      for (const Vec3& p : s.points) e = e.cwiseMax((r * p).cwiseAbs());
+      return std::abs(u.z()) * s.length / 2 +
+             s.radius * std::sqrt(std::max(0.0, 1 - u.z() * u.z()));
+    case ShapeType::Convex:
+    case ShapeType::Mesh: {
+      double e = -kInfinity;
+      for (const Vec3& p : s.points) e = std::max(e, p.dot(u));
       return e;
     }
-    default:
-      return Vec3::Constant(boundingRadius(s));
+    case ShapeType::Plane:
+      break;
   }
+  return kInfinity;
 }
-
-}  // namespace
 
 Bounds runBounds(const Run& run) {
   Bounds b;
@@ -76,8 +72,12 @@ Bounds runBounds(const Run& run) {
           }
           continue;
         }
+        // A box symmetric about the shape's origin, tighter than a bounding sphere for long shapes.
         const Vec3 c = pose.position + pose.orientation * s.position;
-        const Vec3 r = halfExtents(s, pose.orientation * s.orientation);
+        const Quat q = pose.orientation * s.orientation;
+        Vec3 r;
+        for (int k = 0; k < 3; ++k)
+          r[k] = std::max(shapeExtent(s, q, Vec3::Unit(k)), shapeExtent(s, q, -Vec3::Unit(k)));
         grow(c - r, c + r);
       }
     }

@@ -14,6 +14,12 @@ struct Camera {
   double fov = 40.0;        ///< vertical field of view (degrees)
 };
 
+/// The farthest a shape reaches from its origin along the unit direction `dir` (world frame) when
+/// its frame is turned by `q`: the largest (q x) . dir over its points x. Infinite for planes.
+double shapeExtent(const ShapeDef& s, const Quat& q, const Vec3& dir);
+/// Radius of a sphere about the shape's origin that holds the whole shape (0 for planes).
+double boundingRadius(const ShapeDef& s);
+
 /// Axis-aligned bounds of all bounded shapes (planes excluded) over all frames; the bodies'
 /// centres when no shape is bounded.
 struct Bounds {

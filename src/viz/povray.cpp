@@ -140,49 +140,16 @@ bool drawable(const RunBody& body) {
 
 // The lowest point of the shape along `up` (the world frame), at body pose `pose`.
 std::optional<double> lowest(const ShapeDef& s, const Pose& pose, const Vec3& up) {
+  if (s.type == ShapeType::Plane) return std::nullopt;
   const Quat q = pose.orientation * s.orientation;
-  const Vec3 c = pose.toWorld(s.position);
-  const Vec3 u = q.conjugate() * up;  // up in the shape frame
-  switch (s.type) {
-    case ShapeType::Sphere:
-      return c.dot(up) - s.radius;
-    case ShapeType::Box:
-      return c.dot(up) - (s.size / 2).dot(u.cwiseAbs());
-    case ShapeType::Capsule:
-      return c.dot(up) - std::abs(u.z()) * s.length / 2 - s.radius;
-    case ShapeType::Cylinder:
-      return c.dot(up) - std::abs(u.z()) * s.length / 2 -
-             s.radius * std::sqrt(std::max(0.0, 1 - u.z() * u.z()));
-    case ShapeType::Convex:
-    case ShapeType::Mesh: {
-      std::optional<double> low;
-      for (const Vec3& p : s.points) {
-        const double h = (c + q * p).dot(up);
-        low = low ? std::min(*low, h) : h;
-      }
-      return low;
-    }
-    case ShapeType::Plane:
-      break;
-  }
-  return std::nullopt;
+  return pose.toWorld(s.position).dot(up) - shapeExtent(s, q, -up);
 }
 
 // Distance from the body's origin (its centre of mass) to the farthest point of its shapes.
 double reach(const RunBody& body) {
   double r = 0;
   for (const ShapeDef& s : body.shapes) {
-    if (s.type == ShapeType::Plane) continue;
-    const Vec3 e = s.type == ShapeType::Box        ? Vec3(s.size / 2)
-                   : s.type == ShapeType::Capsule  ? Vec3(0, 0, s.length / 2 + s.radius)
-                   : s.type == ShapeType::Cylinder ? Vec3(s.radius, 0, s.length / 2)
-                                                   : Vec3(s.radius, 0, 0);
-    double extent = e.norm();
-    if (s.type == ShapeType::Convex || s.type == ShapeType::Mesh) {
-      extent = 0;
-      for (const Vec3& p : s.points) extent = std::max(extent, p.norm());
-    }
-    r = std::max(r, s.position.norm() + extent);
+    if (s.type != ShapeType::Plane) r = std::max(r, s.position.norm() + boundingRadius(s));
   }
   return r;
 }
