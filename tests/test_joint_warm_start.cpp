@@ -1,6 +1,6 @@
 // The joint warm start must give each row the impulse its key had after the previous step, as a
 // map from key to impulse would (the reference here), however the rows come and go or reorder.
-#include "world/joint_warm_start.hpp"
+#include "step/joint_warm_start.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,7 +19,7 @@ std::vector<linx::Row> rowsWithKeys(const std::vector<std::uint64_t>& keys) {
 
 TEST(JointWarmStart, MatchesAMapOfKeysWhateverTheRowsDo) {
   std::mt19937 rng(7);
-  linx::world::JointWarmStart warm;
+  linx::step::JointWarmStart warm;
   std::map<std::uint64_t, double> reference;  // what the previous step left, key by key
   std::vector<std::uint64_t> keys;
   for (std::uint64_t k = 0; k < 50; ++k) keys.push_back(1000 + 3 * k);
@@ -52,7 +52,7 @@ TEST(JointWarmStart, MatchesAMapOfKeysWhateverTheRowsDo) {
 }
 
 TEST(JointWarmStart, RejectsMismatchedSizes) {
-  linx::world::JointWarmStart warm;
+  linx::step::JointWarmStart warm;
   const auto rows = rowsWithKeys({1, 2, 3});
   std::vector<double> two(2);
   EXPECT_THROW(warm.load(rows, two), std::invalid_argument);

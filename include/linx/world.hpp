@@ -118,8 +118,6 @@ class World {
 
  private:
   struct Impl;
-  void substep(double h);
-  void wakeWithNeighbours(int index);
 
   WorldSettings settings_;
   std::vector<Body> bodies_;

@@ -1,29 +1,11 @@
-// The world and its step. A step of length h runs `substeps` passes of these stages, in order
-// (docs/architecture.md lists the same):
-//   1. velocities   u* = u + h M^-1 (f_ext - gyroscopic)          dynamics/integrator
-//   2. assembly     joints -> rows (count, allocate, fill, verify)  world/assembly
-//                   shapes -> contact points -> contact rows        world/contact_stage
-//   3. warm start   impulses of the previous step, by row key (contacts by feature id)
-//   4. solve        the boxed LCP for lambda, u+ = u* + M^-1 J^T lambda   solver/
-//   5. positions    x += h v+, q = exp(h w+) q                     dynamics/integrator
-//   6. projection   optional post-stabilization of joint errors    world/projection
-//   7. tracking     joints follow their history (a hinge counts turns)
-//   8. sleeping     islands at rest for a while fall asleep          world/sleep
-// Islands (bodies linked by this step's rows) are solved one by one, sleeping ones not at all.
-// then loads are cleared and the state is checked to be finite.
+// The world: its bodies and joints, their creation and queries. The step itself is a list of
+// named stages in step/step.hpp; World::step() runs `substeps` passes of it, then checks the state.
 #include <linx/world.hpp>
 
 #include "dynamics/energy.hpp"
-#include "dynamics/integrator.hpp"
 #include "parallel/parallel_for.hpp"
-#include "solver/problem.hpp"
-#include "world/assembly.hpp"
-#include "world/contact_stage.hpp"
-#include "world/island_solver.hpp"
-#include "world/islands.hpp"
-#include "world/joint_warm_start.hpp"
-#include "world/projection.hpp"
-#include "world/sleep.hpp"
+#include "step/assembly.hpp"
+#include "step/step.hpp"
 
 #include <fmt/format.h>
 
@@ -34,26 +16,8 @@
 
 namespace linx {
 
-namespace {
-/// Bodies from which the per-body stages of a step are split over the threads.
-constexpr std::ptrdiff_t kParallelBodies = 4096;
-}  // namespace
-
 struct World::Impl {
-  std::vector<Row> rows;
-  std::vector<solver::SolverBody> solver_bodies;
-  std::vector<double> lambda;
-  world::JointWarmStart joint_warm;
-  world::ContactStage contact;
-  world::Islands islands;
-  world::IslandWorkspace island_work;
-  world::SleepTracker sleep;
-  std::vector<std::pair<int, int>> links;
-  std::vector<std::uint8_t> movable, was_asleep, may_sleep;
-  std::vector<double> lambda0;
-  std::vector<int> neighbours;  // the warm-start impulses, kept for sleeping islands
-  std::unique_ptr<solver::ConstraintSolver> solver;
-  SolverType solver_type = SolverType::Auto;  // what `solver` is
+  step::State step;
   // Names to indices: a scene of 64,000 bodies would otherwise spend seconds in duplicate checks.
   std::unordered_map<std::string, int> body_names, joint_names;
 };
@@ -93,10 +57,10 @@ BodyId World::createBody(const BodyDef& def) {
       throw bad("position and orientation must be finite, the quaternion non-zero");
   }
   Body body(def);
-  impl_->contact.addBody(body);  // prepares hulls and meshes; throws for bad ones
+  impl_->step.contact.addBody(body);  // prepares hulls and meshes; throws for bad ones
   bodies_.push_back(std::move(body));
   impl_->body_names.emplace(def.name, bodyCount() - 1);
-  impl_->sleep.resize(bodyCount());
+  impl_->step.sleep.resize(bodyCount());
   return BodyId{bodyCount() - 1};
 }
 
@@ -111,8 +75,8 @@ JointId World::createJoint(std::string_view type, const JointDef& def) {
   joints_.push_back(makeJoint(type, def, bodyState(def.body1), bodyState(def.body2)));
   impl_->joint_names.emplace(def.name, jointCount() - 1);
   // A new joint may pull on sleeping bodies.
-  impl_->sleep.wake(def.body1.index);
-  if (!def.body2.isWorld()) impl_->sleep.wake(def.body2.index);
+  impl_->step.sleep.wake(def.body1.index);
+  if (!def.body2.isWorld()) impl_->step.sleep.wake(def.body2.index);
   return JointId{jointCount() - 1};
 }
 
@@ -143,7 +107,7 @@ std::optional<JointId> World::findJoint(std::string_view name) const {
 }
 
 BodyState World::bodyState(BodyId id) const {
-  return world::stateOf(bodies_, id);
+  return step::stateOf(bodies_, id);
 }
 
 void World::step() {
@@ -153,8 +117,9 @@ void World::step() {
     throw std::invalid_argument(
         fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
   const int substeps = std::max(1, settings_.solver.substeps);
+  const step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
   try {
-    for (int s = 0; s < substeps; ++s) substep(h / substeps);
+    for (int s = 0; s < substeps; ++s) report_ = step::pass(scene, impl_->step, h / substeps);
   } catch (const std::domain_error& e) {  // a joint's rows went non-finite (assembly, projection)
     throw NonFiniteState(fmt::format("{} in step {} (t = {} s)", e.what(), steps_ + 1, time_), -1,
                          steps_ + 1, time_);
@@ -182,123 +147,18 @@ void World::step() {
   }
 }
 
-void World::substep(double h) {
-  Impl& m = *impl_;
-  const int threads = parallel::resolveThreads(settings_.threads);
-  const SleepSettings& sleep = settings_.sleep;
-  auto awake = [&](std::size_t i) { return !m.sleep.asleep(static_cast<int>(i)); };
-  // Something pushed or moved a sleeping body from outside: it wakes (with its island, below).
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    const Body& b = bodies_[i];
-    if (!awake(i) && (!b.linearVelocity().isZero(0) || !b.angularVelocity().isZero(0) ||
-                      !b.force().isZero(0) || !b.torque().isZero(0)))
-      wakeWithNeighbours(static_cast<int>(i));
-  }
-  // Per-body stages are split over the threads in large worlds (each body writes only itself).
-  const auto each_body = [&](auto&& body) {
-    parallel::forEach(static_cast<std::ptrdiff_t>(bodies_.size()), threads, kParallelBodies,
-                      [&](std::ptrdiff_t i) { body(static_cast<std::size_t>(i)); });
-  };
-  // 1. velocities (sleeping bodies stay at rest)
-  each_body([&](std::size_t i) {
-    if (awake(i)) dynamics::integrateVelocity(bodies_[i], settings_.gravity, h);
-  });
-  // 2. assembly, 3. warm start: joint rows, then contact rows
-  world::assembleRows(joints_, bodies_, settings_.solver, h, m.rows);
-  const std::size_t joint_rows = m.rows.size();
-  m.lambda.assign(joint_rows, 0.0);
-  if (settings_.solver.warm_start) m.joint_warm.load(m.rows, m.lambda);
-  m.contact.detect(bodies_, joints_, settings_.contact, h, threads);
-  m.contact.appendRows(bodies_, h, m.rows, m.lambda, settings_.solver.warm_start, threads);
-  // Islands: bodies linked by this step's rows. An island with an awake body wakes entirely; the
-  // bodies it wakes get this step's velocity update too.
-  world::rowLinks(m.rows, m.links);
-  m.movable.resize(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) m.movable[i] = !bodies_[i].isStatic();
-  m.islands.build(bodyCount(), m.movable, m.links);
-  m.was_asleep.resize(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) m.was_asleep[i] = !awake(i);
-  const std::span<const std::uint8_t> island_awake =
-      sleep.enabled ? m.sleep.wakeIslands(m.islands) : std::span<const std::uint8_t>{};
-  if (!sleep.enabled) m.sleep.wakeAll();
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
-    if (m.was_asleep[i] && awake(i)) dynamics::integrateVelocity(bodies_[i], settings_.gravity, h);
-  // 4. solve, island by island (sleeping islands are skipped)
-  m.solver_bodies.resize(bodies_.size());
-  each_body([&](std::size_t i) {
-    const Body& b = bodies_[i];
-    m.solver_bodies[i] = solver::SolverBody{b.inverseMass(), b.inverseInertiaWorld(),
-                                            b.linearVelocity(), b.angularVelocity()};
-  });
-  if (!m.solver || m.solver_type != settings_.solver.type) {
-    m.solver = solver::makeSolver(settings_.solver.type);
-    m.solver_type = settings_.solver.type;
-  }
-  m.lambda0 = m.lambda;
-  report_ = world::solveIslands(m.islands, island_awake, m.rows, m.solver_bodies, m.lambda, h,
-                                *m.solver, settings_.solver, m.island_work, threads);
-  // Sleeping islands keep the impulses they rested on, for when they wake.
-  for (std::size_t k = 0; k < m.rows.size(); ++k) {
-    const int island = m.island_work.row_island[k];
-    if (island >= 0 && !island_awake.empty() && !island_awake[static_cast<std::size_t>(island)])
-      m.lambda[k] = m.lambda0[k];
-  }
-  m.joint_warm.store(std::span<const Row>(m.rows).first(joint_rows), m.lambda);
-  m.contact.store(bodies_, m.lambda, threads);
-  // 5. positions
-  each_body([&](std::size_t i) {
-    if (bodies_[i].isStatic() || !awake(i)) return;
-    bodies_[i].setLinearVelocity(m.solver_bodies[i].v);
-    bodies_[i].setAngularVelocity(m.solver_bodies[i].w);
-    dynamics::integratePosition(bodies_[i], h);
-  });
-  // 6. projection
-  if (settings_.solver.projection) {
-    for (std::size_t i = 0; i < bodies_.size(); ++i) m.was_asleep[i] = !awake(i);
-    world::projectPositions(joints_, bodies_, settings_.solver, m.was_asleep);
-  }
-  // 7. tracking
-  for (auto& j : joints_) j->track(bodyState(j->body1()), bodyState(j->body2()));
-  // 8. sleeping: islands at rest long enough fall asleep, their bodies stop
-  if (sleep.enabled) {
-    // Only islands that rest on contacts sleep: a mechanism of joints alone keeps moving however
-    // slowly it swings (a pendulum at 1 cm amplitude is below every rest threshold).
-    m.may_sleep.assign(static_cast<std::size_t>(m.islands.count()), 0);
-    for (std::size_t k = joint_rows; k < m.rows.size(); ++k) {
-      const int island = m.island_work.row_island[k];
-      if (island >= 0) m.may_sleep[static_cast<std::size_t>(island)] = 1;
-    }
-    m.sleep.update(m.islands, bodies_, h, sleep, m.may_sleep);
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-      if (awake(i) || bodies_[i].isStatic()) continue;
-      bodies_[i].setLinearVelocity(Vec3::Zero());
-      bodies_[i].setAngularVelocity(Vec3::Zero());
-    }
-  }
-}
-
 bool World::isAsleep(BodyId id) const {
   body(id);  // checks the id
-  return impl_->sleep.asleep(id.index);
+  return impl_->step.sleep.asleep(id.index);
 }
 
 void World::wake(BodyId id) {
   body(id);
-  wakeWithNeighbours(id.index);
-}
-
-void World::wakeWithNeighbours(int index) {
-  // The bodies it touched wake too: if it moves away, or was moved away, they must notice (the
-  // islands of the next step no longer link them). A static body wakes only its neighbours.
-  if (!bodies_[static_cast<std::size_t>(index)].isStatic()) impl_->sleep.wake(index);
-  impl_->neighbours.clear();
-  impl_->contact.touching(index, impl_->neighbours);
-  for (const int n : impl_->neighbours)
-    if (!bodies_[static_cast<std::size_t>(n)].isStatic()) impl_->sleep.wake(n);
+  step::wakeWithNeighbours(bodies_, impl_->step, id.index);
 }
 
 std::span<const Contact> World::contacts() const {
-  return impl_->contact.contacts();
+  return impl_->step.contact.contacts();
 }
 
 std::optional<double> World::jointCoordinate(JointId id) const {

@@ -9,7 +9,7 @@
 
 #include "parallel/task_output.hpp"
 #include "solver/problem.hpp"
-#include "world/islands.hpp"
+#include "step/islands.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-namespace linx::world {
+namespace linx::step {
 
 /// The links (body_a, body_b) of rows, one per row: link k is row k, so Islands::links(i) lists
 /// the rows of island i. Reuses `links`' storage.
@@ -63,7 +63,8 @@ struct IslandWorkspace {
 ///   u+ for the bodies of awake islands. Non-movable bodies a row refers to are read (their
 ///   velocity enters J u), never written.
 /// lambda: one per row; on entry the warm start, on exit the impulses. Rows of islands that are
-///   not awake get lambda 0 and their bodies are left untouched.
+///   not awake keep their lambda (the impulses they rest on, for when they wake) and their bodies
+///   are left untouched.
 /// island_awake: one flag per island (islands.count()), or empty for all awake.
 /// `threads`: islands of 4,096 rows and more are solved one after another, each with all the
 ///   threads (Problem::threads); smaller islands are solved side by side, in runs of consecutive
@@ -77,4 +78,4 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
                           std::span<double> lambda, double h, solver::ConstraintSolver& solver,
                           const SolverSettings& settings, IslandWorkspace& work, int threads = 1);
 
-}  // namespace linx::world
+}  // namespace linx::step

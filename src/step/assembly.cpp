@@ -1,10 +1,10 @@
-#include "world/assembly.hpp"
+#include "step/assembly.hpp"
 
 #include <fmt/format.h>
 
 #include <stdexcept>
 
-namespace linx::world {
+namespace linx::step {
 
 BodyState stateOf(std::span<const Body> bodies, BodyId id) {
   if (id.isWorld()) return BodyState{};
@@ -68,4 +68,4 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
   rows.resize(used);
 }
 
-}  // namespace linx::world
+}  // namespace linx::step

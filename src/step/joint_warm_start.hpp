@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace linx::world {
+namespace linx::step {
 
 class JointWarmStart {
  public:
@@ -31,4 +31,4 @@ class JointWarmStart {
   bool sorted_ready_ = false;
 };
 
-}  // namespace linx::world
+}  // namespace linx::step

@@ -15,11 +15,11 @@
 #include <span>
 #include <vector>
 
-namespace linx::world {
+namespace linx::step {
 
 /// Projects the bodies' positions onto the joint constraints. Returns the largest remaining error.
 /// Bodies flagged in `frozen` (sleeping ones) are held where they are, as if static.
 double projectPositions(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
                         const SolverSettings& settings, std::span<const std::uint8_t> frozen = {});
 
-}  // namespace linx::world
+}  // namespace linx::step

@@ -1,13 +1,13 @@
-#include "world/projection.hpp"
+#include "step/projection.hpp"
 
 #include "dynamics/integrator.hpp"
 #include "solver/exact_solver.hpp"
-#include "world/assembly.hpp"
+#include "step/assembly.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace linx::world {
+namespace linx::step {
 
 namespace {
 /// Keeps the rows that carry a position error and makes each remove all of it (erp = 1, h = 1).
@@ -70,4 +70,4 @@ double projectPositions(std::span<const std::unique_ptr<Joint>> joints, std::spa
   return err;
 }
 
-}  // namespace linx::world
+}  // namespace linx::step

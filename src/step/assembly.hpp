@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-namespace linx::world {
+namespace linx::step {
 
 /// A joint's state of a body: identity and zero velocity for the world frame.
 BodyState stateOf(std::span<const Body> bodies, BodyId id);
@@ -24,4 +24,4 @@ BodyState stateOf(std::span<const Body> bodies, BodyId id);
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                   const SolverSettings& settings, double h, std::vector<Row>& rows);
 
-}  // namespace linx::world
+}  // namespace linx::step

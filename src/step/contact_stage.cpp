@@ -1,4 +1,4 @@
-#include "world/contact_stage.hpp"
+#include "step/contact_stage.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,9 +7,9 @@
 #include "collision/aabb.hpp"
 #include "collision/geometry.hpp"
 #include "parallel/parallel_for.hpp"
-#include "world/assembly.hpp"
+#include "step/assembly.hpp"
 
-namespace linx::world {
+namespace linx::step {
 
 namespace {
 /// Pairs for the narrowphase to split over threads (fewer are done on the calling thread).
@@ -309,4 +309,4 @@ void ContactStage::store(std::span<const Body> bodies, std::span<const double> l
       });
 }
 
-}  // namespace linx::world
+}  // namespace linx::step

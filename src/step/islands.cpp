@@ -1,8 +1,8 @@
-#include "world/islands.hpp"
+#include "step/islands.hpp"
 
 #include <stdexcept>
 
-namespace linx::world {
+namespace linx::step {
 
 void bucketByIsland(std::span<const int> island_of, int count, std::vector<int>& start,
                     std::vector<int>& list) {
@@ -89,4 +89,4 @@ void Islands::build(int body_count, std::span<const std::uint8_t> movable,
   bucketByIsland(link_island_, count_, link_start_, link_list_);
 }
 
-}  // namespace linx::world
+}  // namespace linx::step

@@ -1,4 +1,4 @@
-#include "world/island_solver.hpp"
+#include "step/island_solver.hpp"
 
 #include "parallel/parallel_for.hpp"
 
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <typeinfo>
 
-namespace linx::world {
+namespace linx::step {
 
 namespace {
 /// Rows of an island from which its gather is split over the threads.
@@ -148,17 +148,13 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
       work.local_body[static_cast<std::size_t>(own[l])] = static_cast<int>(l);
   }
 
-  // Sleeping islands keep no impulse and their bodies; islands with no row need no solve.
+  // Sleeping islands keep their impulses and their bodies; islands with no row need no solve.
   SolverReport total;
   work.small.clear();
   for (int i = 0; i < count; ++i) {
     const int first = work.row_start[static_cast<std::size_t>(i)];
     const int last = work.row_start[static_cast<std::size_t>(i) + 1];
-    if (!island_awake.empty() && island_awake[static_cast<std::size_t>(i)] == 0) {
-      for (int j = first; j < last; ++j)
-        lambda[static_cast<std::size_t>(work.row_list[static_cast<std::size_t>(j)])] = 0.0;
-      continue;
-    }
+    if (!island_awake.empty() && island_awake[static_cast<std::size_t>(i)] == 0) continue;
     if (first == last) continue;
     if (threads > 1 && last - first < kParallelRows) {
       work.small.push_back(i);  // solved side by side below
@@ -187,4 +183,4 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
   return total;
 }
 
-}  // namespace linx::world
+}  // namespace linx::step

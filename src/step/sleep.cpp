@@ -1,9 +1,9 @@
-#include "world/sleep.hpp"
+#include "step/sleep.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
-namespace linx::world {
+namespace linx::step {
 
 void SleepTracker::resize(int body_count) {
   if (body_count < 0) throw std::invalid_argument("SleepTracker::resize: negative body count");
@@ -65,4 +65,4 @@ void SleepTracker::update(const Islands& islands, std::span<const Body> bodies, 
   }
 }
 
-}  // namespace linx::world
+}  // namespace linx::step

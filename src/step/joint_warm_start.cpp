@@ -1,9 +1,9 @@
-#include "world/joint_warm_start.hpp"
+#include "step/joint_warm_start.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
-namespace linx::world {
+namespace linx::step {
 
 void JointWarmStart::load(std::span<const Row> rows, std::span<double> lambda) {
   if (lambda.size() != rows.size())
@@ -42,4 +42,4 @@ void JointWarmStart::store(std::span<const Row> rows, std::span<const double> la
   sorted_ready_ = false;
 }
 
-}  // namespace linx::world
+}  // namespace linx::step

@@ -24,7 +24,7 @@
 #include "joints/contact_joint.hpp"
 #include "parallel/task_output.hpp"
 
-namespace linx::world {
+namespace linx::step {
 
 /// One contact point of this step between body a's shape and body b's shape.
 struct ContactRecord {
@@ -101,4 +101,4 @@ class ContactStage {
   double match_distance_ = 0.0;
 };
 
-}  // namespace linx::world
+}  // namespace linx::step

@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-namespace linx::world {
+namespace linx::step {
 
 /// Counting sort of items 0..n-1 by their island (island_of[k], -1 skipped): the items of island i
 /// are list[start[i]..start[i+1]), ascending. `start` gets count + 1 entries.
@@ -68,4 +68,4 @@ class Islands {
   std::vector<int> link_start_, link_list_;
 };
 
-}  // namespace linx::world
+}  // namespace linx::step

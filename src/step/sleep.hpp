@@ -6,7 +6,7 @@
 //   2. tracker.wakeIslands(islands): an island with at least one awake body is awake and wakes its
 //      sleeping bodies (their rest timers restart from 0); an island whose bodies all sleep stays
 //      asleep. The returned flags (one per island) are what solveIslands takes;
-//   3. solve the awake islands (solveIslands); rows of sleeping islands get lambda 0;
+//   3. solve the awake islands (solveIslands); rows of sleeping islands keep their impulses;
 //   4. integrate only the awake bodies; sleeping bodies keep their pose and have their velocities
 //      set to zero;
 //   5. tracker.update(islands, bodies, h, settings): timers of awake bodies advance, and islands
@@ -18,13 +18,13 @@
 #include <linx/body.hpp>
 #include <linx/contact.hpp>
 
-#include "world/islands.hpp"
+#include "step/islands.hpp"
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
-namespace linx::world {
+namespace linx::step {
 
 /// Rest timers and sleep flags of the bodies of a world.
 class SleepTracker {
@@ -67,4 +67,4 @@ class SleepTracker {
   std::vector<std::uint8_t> island_awake_;
 };
 
-}  // namespace linx::world
+}  // namespace linx::step

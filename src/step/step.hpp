@@ -1,0 +1,82 @@
+// The step as a list of named stages. World::step() runs `substeps` passes of them, each of
+// length h; every stage is a function of what it reads and what it writes, in this order (the
+// same list is in docs/solver.md):
+//
+//   wake        bodies disturbed from outside since the last pass wake, with their neighbours
+//   velocities  u* = u + h M^-1 (f_ext - gyroscopic), for awake bodies      dynamics/integrator
+//   collide     shapes -> broadphase -> narrowphase -> contact points       step/contact_stage
+//   prepare     joint rows, then contact rows, each with its warm-start impulse
+//                                                    step/assembly, step/joint_warm_start
+//   islands     bodies linked by the rows; an island with an awake body wakes entirely
+//                                                    step/islands, step/sleep
+//   solve       each awake island's boxed LCP: impulses lambda, u+ = u* + M^-1 J^T lambda
+//                                                    step/island_solver, solver/
+//   store       impulses kept for the next pass's warm start and the contacts() report
+//   positions   x += h v+, q = exp(h w+) q, for awake bodies                dynamics/integrator
+//   project     optional post-stabilization of the joints' position errors  step/projection
+//   track       joints follow their history (a hinge counts turns)
+//   sleep       islands resting on contacts for long enough fall asleep     step/sleep
+//
+// After the passes World::step() runs `check` (step/check): a non-finite state stops the run.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/row.hpp>
+#include <linx/solver.hpp>
+#include <linx/world.hpp>
+
+#include "solver/problem.hpp"
+#include "step/contact_stage.hpp"
+#include "step/island_solver.hpp"
+#include "step/islands.hpp"
+#include "step/joint_warm_start.hpp"
+#include "step/sleep.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace linx::step {
+
+/// What a pass works on, lent by the world for the call.
+struct Scene {
+  std::span<Body> bodies;
+  std::span<const std::unique_ptr<Joint>> joints;
+  const WorldSettings& settings;
+  int threads = 1;  ///< resolved worker count (>= 1)
+};
+
+/// The rows of a pass: joint rows first, then contact rows, with one impulse each.
+struct Rows {
+  std::vector<Row> rows;
+  std::vector<double> lambda;  ///< warm start before the solve, the impulses after it
+  std::size_t joint_rows = 0;  ///< rows [0, joint_rows) are the joints'
+};
+
+/// What the step keeps from one pass to the next (warm starts, contacts, sleep) and its buffers.
+struct State {
+  Rows rows;
+  JointWarmStart joint_warm;
+  ContactStage contact;
+  Islands islands;
+  SleepTracker sleep;
+  IslandWorkspace island_work;
+  std::vector<solver::SolverBody> solver_bodies;
+  std::unique_ptr<solver::ConstraintSolver> solver;
+  SolverType solver_type = SolverType::Auto;  ///< what `solver` is
+  // scratch
+  std::vector<std::pair<int, int>> links;
+  std::vector<std::uint8_t> movable, may_sleep;
+  std::vector<int> neighbours;
+};
+
+/// One pass of length h (s) through the stages above. Returns the solve's report.
+SolverReport pass(const Scene& scene, State& state, double h);
+
+/// Wakes body `index` (unless static) and the bodies it touched in the last pass: if it moves
+/// away, or was moved away, they must notice.
+void wakeWithNeighbours(std::span<const Body> bodies, State& state, int index);
+
+}  // namespace linx::step
