@@ -25,18 +25,40 @@ constexpr int kColours = 64;  // per phase; rows that find no free colour are sw
 constexpr std::ptrdiff_t kParallelWarmRows = 1024;
 }  // namespace
 
+void PgsSolver::findBlocks(const Problem& p) {
+  const std::size_t n = p.rows.size();
+  block_start_.resize(n);
+  const auto equality = [](const Row& r) {
+    return r.kind == RowKind::Bilateral && std::isinf(r.lo) && std::isinf(r.hi);
+  };
+  int run = 0;  // rows in the current block
+  for (std::size_t k = 0; k < n; ++k) {
+    const Row& r = p.rows[k];
+    const bool continues = k > 0 && run > 0 && run < kMaxBlock && equality(r) &&
+                           equality(p.rows[k - 1]) && (r.key >> 8) == (p.rows[k - 1].key >> 8) &&
+                           r.body_a == p.rows[k - 1].body_a && r.body_b == p.rows[k - 1].body_b;
+    block_start_[k] = !continues;
+    run = continues ? run + 1 : (equality(r) ? 1 : 0);
+  }
+}
+
 void PgsSolver::planSweep(Problem& p) {
   const std::size_t n = p.rows.size();
+  findBlocks(p);
   order_.resize(n);
   groups_.clear();
+  group_ends_.clear();
   if (n < kColourRows) {
     for (std::size_t k = 0; k < n; ++k) order_[k] = static_cast<int>(k);
-    groups_.push_back(Group{0, static_cast<int>(n), false});
+    groups_.push_back(Group{0, 0, false});
+    group_ends_.push_back(static_cast<int>(n));
     return;
   }
   // Greedy colouring, one phase for the normal and bilateral rows and one for the friction rows
   // (a sweep settles the normal impulses before friction, whose bounds follow them, as the
-  // unordered sweep does). Within a phase, colour c holds rows that share no movable body.
+  // unordered sweep does). Within a phase, colour c holds rows that share no movable body; a
+  // block's rows take the colour of its first row, and stay consecutive (the fill keeps the
+  // rows' order within a colour).
   taken_.resize(p.bodies.size());
   colour_of_.resize(n);
   std::size_t pos = 0;
@@ -46,6 +68,11 @@ void PgsSolver::planSweep(Problem& p) {
     for (std::size_t k = 0; k < n; ++k) {
       const Row& r = p.rows[k];
       if ((r.kind == RowKind::Friction) != friction) continue;
+      if (!block_start_[k]) {
+        colour_of_[k] = colour_of_[k - 1];
+        ++count[static_cast<std::size_t>(colour_of_[k])];
+        continue;
+      }
       std::uint64_t used = 0;
       if (r.body_a >= 0) used |= taken_[static_cast<std::size_t>(r.body_a)];
       if (r.body_b >= 0) used |= taken_[static_cast<std::size_t>(r.body_b)];
@@ -61,14 +88,66 @@ void PgsSolver::planSweep(Problem& p) {
     for (int c = 0; c <= kColours; ++c) {
       fill[static_cast<std::size_t>(c)] = static_cast<int>(pos);
       const int size = count[static_cast<std::size_t>(c)];
-      if (size > 0) groups_.push_back(Group{static_cast<int>(pos), size, c < kColours});
       pos += static_cast<std::size_t>(size);
+      if (size > 0) {
+        groups_.push_back(Group{0, 0, c < kColours});
+        group_ends_.push_back(static_cast<int>(pos));
+      }
     }
     for (std::size_t k = 0; k < n; ++k)
       if ((p.rows[k].kind == RowKind::Friction) == friction)
         order_[static_cast<std::size_t>(fill[static_cast<std::size_t>(colour_of_[k])]++)] =
             static_cast<int>(k);
   }
+}
+
+void PgsSolver::buildItems(const std::vector<int>& group_ends) {
+  items_.clear();
+  block_inverse_.clear();
+  std::size_t group = 0;
+  int group_begin = 0;  // sweep position where the current group starts
+  const auto close = [&](int item_end) {
+    groups_[group].begin = group_begin;
+    groups_[group].size = item_end - group_begin;
+    group_begin = item_end;
+    ++group;
+  };
+  const int n = static_cast<int>(rows_.size());
+  int pos = 0;
+  while (pos < n) {
+    const int end_of_group = group_ends[group];
+    int end = pos + 1;
+    while (end < end_of_group && !block_start_[static_cast<std::size_t>(order_[end])]) ++end;
+    items_.push_back(Item{pos, end - pos, -1});
+    if (end - pos > 1) {
+      // A_bb: the block's rows share both bodies (an absent end has W = 0).
+      const int size = end - pos;
+      BlockMatrix a = BlockMatrix::Identity();
+      for (int i = 0; i < size; ++i) {
+        const CompactRow& ri = rows_[static_cast<std::size_t>(pos + i)];
+        for (int j = 0; j < size; ++j) {
+          const CompactRow& rj = rows_[static_cast<std::size_t>(pos + j)];
+          a(i, j) = ri.ja_v.dot(rj.wa_v) + ri.ja_w.dot(rj.wa_w) + ri.jb_v.dot(rj.wb_v) +
+                    ri.jb_w.dot(rj.wb_w) + (i == j ? ri.cfm : 0.0);
+        }
+      }
+      // A dependent row (a pivot that vanishes against its diagonal) leaves the rows scalar.
+      const Eigen::LDLT<BlockMatrix> ldlt(a);
+      bool regular = ldlt.info() == Eigen::Success;
+      for (int i = 0; i < size && regular; ++i)
+        regular = ldlt.vectorD()(i) > 1e-10 * a(i, i) && a(i, i) > 0.0;
+      if (regular) {
+        items_.back().block = static_cast<int>(block_inverse_.size());
+        block_inverse_.push_back(ldlt.solve(BlockMatrix::Identity()));
+      } else {
+        items_.back().size = 1;
+        for (int k = pos + 1; k < end; ++k) items_.push_back(Item{k, 1, -1});
+      }
+    }
+    pos = end;
+    if (pos == end_of_group) close(static_cast<int>(items_.size()));
+  }
+  while (group < groups_.size()) close(static_cast<int>(items_.size()));  // empty problem
 }
 
 SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
@@ -171,12 +250,17 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     lambda[k] = std::clamp(lambda[k], lo, hi);
     if (lambda[k] != 0.0) apply(rows_[k], lambda[k]);
   };
+  buildItems(group_ends_);
+  const auto warmItem = [&](int i) {
+    const Item& item = items_[static_cast<std::size_t>(i)];
+    for (int k = item.begin; k < item.begin + item.size; ++k) warm(static_cast<std::size_t>(k));
+  };
   for (const Group& g : groups_) {
     if (g.parallel)
       parallel::forEach(g.size, threads, kParallelWarmRows,
-                        [&](std::ptrdiff_t j) { warm(static_cast<std::size_t>(g.begin + j)); });
+                        [&](std::ptrdiff_t j) { warmItem(g.begin + static_cast<int>(j)); });
     else
-      for (int j = 0; j < g.size; ++j) warm(static_cast<std::size_t>(g.begin + j));
+      for (int j = 0; j < g.size; ++j) warmItem(g.begin + j);
   }
 
   // One row's update; returns its violation before the update, without a branch: |w| for a free
@@ -195,19 +279,40 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     apply(c, next - l);
     return std::abs(next - l) * c.diag;
   };
+  // A block of equality rows: all its impulses at once, lambda_b -= omega A_bb^-1 w_b, so the
+  // block's rows hold together after its update. Its violation: the largest of its rows'.
+  const auto relaxItem = [&](int i) {
+    const Item& item = items_[static_cast<std::size_t>(i)];
+    if (item.block < 0) return relax(static_cast<std::size_t>(item.begin));
+    BlockVector w = BlockVector::Zero();
+    for (int j = 0; j < item.size; ++j) {
+      const auto k = static_cast<std::size_t>(item.begin + j);
+      w(j) = slack(rows_[k], lambda[k]);
+    }
+    const BlockVector delta = -omega * (block_inverse_[static_cast<std::size_t>(item.block)] * w);
+    double violation = 0.0;
+    for (int j = 0; j < item.size; ++j) {
+      const auto k = static_cast<std::size_t>(item.begin + j);
+      lambda[k] += delta(j);
+      apply(rows_[k], delta(j));
+      violation = std::max(violation, std::abs(delta(j)) * rows_[k].diag);
+    }
+    return violation;
+  };
 
   // Sweeps alternate direction (symmetric Gauss-Seidel): a one-way sweep leaves a bias towards
   // the rows it visits last, which tilts a symmetric pile of contacts. A backward sweep visits the
-  // groups in reverse, and a serial group's rows in reverse. The rows of a colour share no body:
+  // groups in reverse, and a serial group's items in reverse. The items of a colour share no body:
   // the threads split them, and the result is the same for any number of threads.
   report.converged = false;
   const int iterations = settings.iterations;
   if (n < kColourRows) {
+    const int count = static_cast<int>(items_.size());
     for (int it = 0; it < iterations; ++it) {
       const bool forward = it % 2 == 0;
-      double sweep_violation = 0.0;  // of each row as it is visited, before its update
-      for (std::size_t visit = 0; visit < n; ++visit)
-        sweep_violation = std::max(sweep_violation, relax(forward ? visit : n - 1 - visit));
+      double sweep_violation = 0.0;  // of each item as it is visited, before its update
+      for (int visit = 0; visit < count; ++visit)
+        sweep_violation = std::max(sweep_violation, relaxItem(forward ? visit : count - 1 - visit));
       report.iterations = it + 1;
       if (sweep_violation <= settings.tolerance) {
         report.converged = true;
@@ -228,12 +333,12 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
         if (g.parallel) {
 #pragma omp for schedule(static)
           for (int j = g.begin; j < g.begin + g.size; ++j)
-            sweep_violation = std::max(sweep_violation, relax(static_cast<std::size_t>(j)));
+            sweep_violation = std::max(sweep_violation, relaxItem(j));
         } else {
 #pragma omp single
           for (int j = 0; j < g.size; ++j) {
             const int k = forward ? g.begin + j : g.begin + g.size - 1 - j;
-            sweep_violation = std::max(sweep_violation, relax(static_cast<std::size_t>(k)));
+            sweep_violation = std::max(sweep_violation, relaxItem(k));
           }
         }
       }
