@@ -5,7 +5,8 @@
 //   linx render DIR ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
-// (scene, flags, usage), 3 the simulation state became non-finite, 130 interrupted.
+// (scene, flags, usage), 3 the run stopped on a fault (a non-finite state, energy made by an
+// unstable solve), 130 interrupted.
 #include "cli_common.hpp"
 #include "plot_command.hpp"
 #include "progress.hpp"
@@ -139,7 +140,7 @@ int run(const RunOptions& options) {
   for (std::int64_t step = 1; step <= p.steps; ++step) {
     try {
       world.step();
-    } catch (const linx::NonFiniteState& e) {
+    } catch (const linx::StepFault& e) {  // a non-finite state or an energy blow-up
       progress.clear();
       fmt::print(stderr, "linx: {}: {}; nothing written\n", options.scene, e.what());
       return kExitNonFinite;
@@ -188,8 +189,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer(
       "Scene format and outputs: docs/scene-format.md.\n"
-      "Exit status: 0 success, 1 output or internal failure, 2 bad input, 3 non-finite state,\n"
-      "130 interrupted.");
+      "Exit status: 0 success, 1 output or internal failure, 2 bad input, 3 a fault (a non-finite\n"
+      "state, or energy made by an unstable solve), 130 interrupted.");
 
   RunOptions options;
   double duration = 0, timestep = 0;

@@ -18,14 +18,13 @@
 
 namespace linx {
 
-/// A numerical fault found by World::step(): a body's state, or a joint's rows, stopped being
-/// finite. what() reads "bodies[i] (NAME): position is not finite after step N (t = T s)", or names
-/// the joint. The world keeps the state in which the fault was found.
-class NonFiniteState : public std::runtime_error {
+/// A fault found by World::step() that makes its results meaningless: the run must stop. The
+/// world keeps the state in which the fault was found.
+class StepFault : public std::runtime_error {
  public:
-  NonFiniteState(const std::string& what, int body, std::int64_t step, double time)
+  StepFault(const std::string& what, int body, std::int64_t step, double time)
       : std::runtime_error(what), body_(body), step_(step), time_(time) {}
-  int body() const { return body_; }  ///< index of the body, -1 when a joint's rows were at fault
+  int body() const { return body_; }  ///< index of the body at fault, -1 for a joint's rows
   std::int64_t step() const { return step_; }
   double time() const { return time_; }
 
@@ -33,6 +32,44 @@ class NonFiniteState : public std::runtime_error {
   int body_;
   std::int64_t step_;
   double time_;
+};
+
+/// A body's state, or a joint's rows, stopped being finite. what() reads "bodies[i] (NAME):
+/// position is not finite after step N (t = T s)", or names the joint.
+class NonFiniteState : public StepFault {
+ public:
+  using StepFault::StepFault;
+};
+
+/// The steps produced more energy than FaultSettings allows while nothing drove the world: the
+/// solve is unstable and the motion is not physics. what() names the step, the time and the body
+/// with the most kinetic energy.
+class EnergyGrowth : public StepFault {
+ public:
+  EnergyGrowth(const std::string& what, int body, std::int64_t step, double time, double produced,
+               double bound)
+      : StepFault(what, body, step, time), produced_(produced), bound_(bound) {}
+  double produced() const { return produced_; }  ///< (J) energy the steps produced
+  double bound() const { return bound_; }        ///< (J) what was allowed
+
+ private:
+  double produced_, bound_;
+};
+
+/// When World::step() stops a run (docs/solver.md, "Faults"). A non-finite state always does.
+/// The energy check sums, over the steps in which nothing drives the world (no applied force or
+/// torque, no motor), the change of total energy (kinetic + gravitational) that each step makes,
+/// and takes its rise above its lowest value so far: energy an undriven step makes is the solver's
+/// doing. The run stops when that rise exceeds
+///   kinetic_fraction * (the largest kinetic energy seen) + sum m (|g| height + speed^2 / 2)
+/// (sums over the movable bodies),
+/// the second term allowing position correction to lift every body by `height` or push it to
+/// `speed`. Changes made between steps (a new velocity, a moved body) are not counted.
+struct FaultSettings {
+  bool energy = true;             ///< check the energy at all
+  double kinetic_fraction = 0.5;  ///< >= 0
+  double height = 0.1;            ///< (m) >= 0
+  double speed = 3.0;             ///< (m/s) >= 0; the contacts' max_push_out by default
 };
 
 /// The most worker threads a world accepts (WorldSettings::threads, a scene's `threads`,
@@ -45,6 +82,7 @@ struct WorldSettings {
   SolverSettings solver{};
   ContactSettings contact{};
   SleepSettings sleep{};
+  FaultSettings faults{};
   /// Worker threads of a step (collision, per-body stages and the PGS sweep of large islands):
   /// 0 for one per hardware thread. Results are the same to the bit for any count. One by
   /// default, as in the peers: programs that run several worlds at once keep their cores.
@@ -100,7 +138,8 @@ class World {
   /// The contact points of the last step, with their impulses.
   std::span<const Contact> contacts() const;
 
-  /// Advances by settings().timestep. Throws NonFiniteState when the state stops being finite.
+  /// Advances by settings().timestep. Throws NonFiniteState when the state stops being finite,
+  /// EnergyGrowth when undriven steps make energy beyond settings().faults.
   void step();
   double time() const { return time_; }
   std::int64_t stepCount() const { return steps_; }

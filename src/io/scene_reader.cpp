@@ -183,7 +183,7 @@ class Reader {
     if (!root.is_object())
       fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
     allowOnly(node, {"gravity", "timestep", "duration", "threads", "solver", "contact", "sleep",
-                     "bodies", "joints", "view"});
+                     "faults", "bodies", "joints", "view"});
 
     Scene scene;
     scene.file = file_;
@@ -199,6 +199,7 @@ class Reader {
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
     if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);
     if (auto n = get(node, "sleep")) scene.settings.sleep = sleep(*n);
+    if (auto n = get(node, "faults")) scene.settings.faults = faults(*n);
     if (auto n = get(node, "view")) scene.view = view(*n);
 
     const Node bodies = require(node, "bodies");
@@ -442,7 +443,7 @@ class Reader {
 
   ContactSettings contact(const Node& n) const {
     allowOnly(n, {"enabled", "margin", "slop", "erp", "cfm", "stiffness", "damping",
-                  "restitution_threshold"});
+                  "restitution_threshold", "max_push_out"});
     ContactSettings c;
     if (auto v = get(n, "enabled")) c.enabled = boolean(*v);
     if (auto v = get(n, "margin")) c.margin = nonNegative(*v);
@@ -450,6 +451,7 @@ class Reader {
     if (auto v = get(n, "erp")) c.erp = unitInterval(*v);
     if (auto v = get(n, "cfm")) c.cfm = nonNegative(*v);
     if (auto v = get(n, "restitution_threshold")) c.restitution_threshold = nonNegative(*v);
+    if (auto v = get(n, "max_push_out")) c.max_push_out = nonNegative(*v);
     const auto k = get(n, "stiffness"), d = get(n, "damping");
     if (k.has_value() != d.has_value())
       fail(childPath(n.path, k ? "damping" : "stiffness"),
@@ -471,6 +473,16 @@ class Reader {
     if (auto v = get(n, "linear_velocity")) s.linear_velocity = nonNegative(*v);
     if (auto v = get(n, "angular_velocity")) s.angular_velocity = nonNegative(*v);
     if (auto v = get(n, "time")) s.time = nonNegative(*v);
+    return s;
+  }
+
+  FaultSettings faults(const Node& n) const {
+    allowOnly(n, {"energy", "kinetic_fraction", "height", "speed"});
+    FaultSettings s;
+    if (auto v = get(n, "energy")) s.energy = boolean(*v);
+    if (auto v = get(n, "kinetic_fraction")) s.kinetic_fraction = nonNegative(*v);
+    if (auto v = get(n, "height")) s.height = nonNegative(*v);
+    if (auto v = get(n, "speed")) s.speed = nonNegative(*v);
     return s;
   }
 

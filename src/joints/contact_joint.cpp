@@ -40,9 +40,11 @@ void contactRows(const collision::ContactPoint& c, const BodyState& a, const Bod
   if (gap > 0.0) {  // speculative: reach the surface by the end of the step, no sooner
     normal.phi = gap;
     normal.erp = 1.0;
-  } else {  // penetrating: push out what lies beyond the slop
+  } else {  // penetrating: push out what lies beyond the slop, at max_push_out at most
     normal.phi = std::min(0.0, gap + law.slop);
     normal.erp = law.erp;
+    if (normal.erp * -normal.phi > law.max_push_out * h)
+      normal.phi = -law.max_push_out * h / normal.erp;
   }
   const double approach = -vn;
   if (law.restitution > 0.0 && approach > law.restitution_threshold &&

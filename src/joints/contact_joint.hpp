@@ -37,6 +37,7 @@ struct ContactLaw {
   double cfm = 1e-10;                  ///< normal and friction rows
   double slop = 5e-4;                  ///< allowed penetration (m)
   double restitution_threshold = 0.2;  ///< (m/s) slower approaches do not bounce
+  double max_push_out = 3.0;           ///< (m/s) penetration is pushed out no faster
 };
 
 /// Sliding speeds (m/s) above which the first tangent follows the sliding direction.

@@ -53,6 +53,7 @@ joints::ContactLaw combine(const ShapeDef& a, const ShapeDef& b, const ContactSe
   }
   law.slop = s.slop;
   law.restitution_threshold = s.restitution_threshold;
+  law.max_push_out = s.max_push_out;
   return law;
 }
 

@@ -5,6 +5,7 @@
 #include "dynamics/energy.hpp"
 #include "parallel/parallel_for.hpp"
 #include "step/assembly.hpp"
+#include "step/check.hpp"
 #include "step/step.hpp"
 
 #include <fmt/format.h>
@@ -18,6 +19,7 @@ namespace linx {
 
 struct World::Impl {
   step::State step;
+  step::FaultCheck check;
   // Names to indices: a scene of 64,000 bodies would otherwise spend seconds in duplicate checks.
   std::unordered_map<std::string, int> body_names, joint_names;
 };
@@ -116,8 +118,13 @@ void World::step() {
   if (settings_.threads < 0 || settings_.threads > kMaxThreads)
     throw std::invalid_argument(
         fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
+  const FaultSettings& faults = settings_.faults;
+  if (!(faults.kinetic_fraction >= 0.0 && faults.height >= 0.0 && faults.speed >= 0.0) ||
+      !std::isfinite(faults.kinetic_fraction + faults.height + faults.speed))
+    throw std::invalid_argument("faults: kinetic_fraction, height and speed must be finite, >= 0");
   const int substeps = std::max(1, settings_.solver.substeps);
   const step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
+  impl_->check.begin(bodies_, settings_.gravity);
   try {
     for (int s = 0; s < substeps; ++s) report_ = step::pass(scene, impl_->step, h / substeps);
   } catch (const std::domain_error& e) {  // a joint's rows went non-finite (assembly, projection)
@@ -133,18 +140,10 @@ void World::step() {
     clock_steps_ = 0;
   }
   time_ = clock_origin_ + static_cast<double>(++clock_steps_) * h;
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    const Body& b = bodies_[i];
-    const char* what = !b.position().allFinite()               ? "position"
-                       : !b.orientation().coeffs().allFinite() ? "orientation"
-                       : !b.linearVelocity().allFinite()       ? "linear velocity"
-                       : !b.angularVelocity().allFinite()      ? "angular velocity"
-                                                               : nullptr;
-    if (what)
-      throw NonFiniteState(fmt::format("bodies[{}] ({}): {} is not finite after step {} (t = {} s)",
-                                       i, b.name(), what, steps_, time_),
-                           static_cast<int>(i), steps_, time_);
-  }
+  const auto& rows = impl_->step.rows.rows;
+  const bool motors =
+      std::any_of(rows.begin(), rows.end(), [](const Row& r) { return r.kind == RowKind::Motor; });
+  impl_->check.end(bodies_, settings_.gravity, faults, motors, steps_, time_);
 }
 
 bool World::isAsleep(BodyId id) const {
