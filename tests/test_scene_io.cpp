@@ -92,6 +92,8 @@ TEST(SceneRead, EveryField) {
     "solver": {"type": "pgs", "iterations": 40, "tolerance": 1e-8, "erp": 0.3, "cfm": 1e-6,
                "warm_start": false, "sor": 1.3, "substeps": 4, "projection": true,
                "projection_iterations": 5, "projection_tolerance": 1e-9},
+    "contact": {"max_push_out": 1.5},
+    "faults": {"energy": false, "kinetic_fraction": 0.25, "height": 0.5, "speed": 2},
     "bodies": [
       {"name": "ground", "static": true},
       {"name": "arm", "mass": 2, "inertia": [[2, 0.1, 0], [0.1, 3, 0], [0, 0, 4]],
@@ -125,6 +127,12 @@ TEST(SceneRead, EveryField) {
   EXPECT_TRUE(solver.projection);
   EXPECT_EQ(solver.projection_iterations, 5);
   EXPECT_EQ(solver.projection_tolerance, 1e-9);
+  EXPECT_EQ(s.settings.contact.max_push_out, 1.5);
+  const linx::FaultSettings& faults = s.settings.faults;
+  EXPECT_FALSE(faults.energy);
+  EXPECT_EQ(faults.kinetic_fraction, 0.25);
+  EXPECT_EQ(faults.height, 0.5);
+  EXPECT_EQ(faults.speed, 2.0);
 
   ASSERT_EQ(s.bodies.size(), 2u);
   EXPECT_TRUE(s.bodies[0].is_static);
@@ -419,6 +427,20 @@ TEST(SceneError, TopLevel) {
       {[](json& s) { s["bodies"] = json::array(); }, "bodies", "must contain at least one body"},
       {[](json& s) { s["bodies"] = json::object(); }, "bodies", "expected an array, got an object"},
       {[](json& s) { s["joints"] = nullptr; }, "joints", "expected an array, got null"},
+  });
+}
+
+TEST(SceneError, Faults) {
+  expectErrors({
+      {[](json& s) { s["faults"] = true; }, "faults", "expected an object, got a boolean"},
+      {[](json& s) { s["faults"]["energy"] = 1; }, "faults.energy",
+       "expected true or false, got a number"},
+      {[](json& s) { s["faults"]["kinetic_fraction"] = -0.5; }, "faults.kinetic_fraction",
+       "must be >= 0, got -0.5"},
+      {[](json& s) { s["faults"]["speeds"] = 1; }, "faults.speeds",
+       "unknown field (did you mean 'speed'?)"},
+      {[](json& s) { s["contact"]["max_push_out"] = -1; }, "contact.max_push_out",
+       "must be >= 0, got -1"},
   });
 }
 
