@@ -41,6 +41,7 @@ World makeWorld(SolverType type, double h = 1e-3) {
   WorldSettings s;
   s.timestep = h;
   s.solver.type = type;
+  if (type == SolverType::Soft) s.solver.substeps = 4;
   return World(s);
 }
 
@@ -53,11 +54,12 @@ BodyId addBlock(World& world, const Slope& slope, double friction) {
 }
 
 class Incline : public testing::TestWithParam<SolverType> {};
+class InclineStick : public testing::TestWithParam<SolverType> {};
 
 // mu = 0.5 against tan(theta) = 0.95 mu: the friction needed, m g sin(theta), is 95 % of the bound
 // mu m g cos(theta), so the block must not move at all. The bound is 0.1 mm over 2 s: the only
 // motion allowed is the settling of the contact within its slop.
-TEST_P(Incline, BlockSticksBelowTheFrictionAngle) {
+TEST_P(InclineStick, BlockSticksBelowTheFrictionAngle) {
   const double mu = 0.5;
   const Slope slope{std::atan(0.95 * mu)};
   World world = makeWorld(GetParam());
@@ -97,6 +99,14 @@ TEST_P(Incline, BlockSlidesWithCoulombFriction) {
 
 INSTANTIATE_TEST_SUITE_P(Solvers, Incline,
                          testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs),
+                         [](const auto& info) { return std::string(solverTypeName(info.param)); });
+
+// The soft step too. It is left out of the sliding test: one sweep a substep leaves the four
+// corners' normal impulses unequal, and a sliding block drifts sideways (2 cm/s after 1 s on the
+// 30 degree slope) and, just past the friction angle, slides 9 % too slowly (docs/solver.md).
+INSTANTIATE_TEST_SUITE_P(Solvers, InclineStick,
+                         testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs,
+                                         SolverType::Soft),
                          [](const auto& info) { return std::string(solverTypeName(info.param)); });
 
 class Rolling : public testing::TestWithParam<SolverType> {};
@@ -141,7 +151,8 @@ TEST_P(Rolling, SolidSphereAndCylinderRollAtTheirClosedFormAcceleration) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, Rolling,
-                         testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs),
+                         testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs,
+                                         SolverType::Soft),
                          [](const auto& info) { return std::string(solverTypeName(info.param)); });
 
 // A ball of restitution e dropped from rest at height H (its bottom) rebounds to e^2 H: the
@@ -149,8 +160,11 @@ INSTANTIATE_TEST_SUITE_P(Solvers, Rolling,
 // error is about h sqrt(2 g H) / H ~ 0.5 %.
 TEST(Restitution, BallReboundsToESquaredOfItsDropHeight) {
   const double r = 0.05, H = 1.0;
-  for (const double e : {0.5, 0.8}) {
-    World world = makeWorld(SolverType::Exact);
+  for (const auto& [type, e] :
+       {std::pair{SolverType::Exact, 0.5}, std::pair{SolverType::Exact, 0.8},
+        std::pair{SolverType::Soft, 0.5}, std::pair{SolverType::Soft, 0.8}}) {
+    SCOPED_TRACE(std::string(solverTypeName(type)));
+    World world = makeWorld(type);
     world.createBody(ground(Vec3::UnitZ(), 0.5, e));
     BodyDef d;
     d.name = "ball";
@@ -182,7 +196,7 @@ TEST(Restitution, BallReboundsToESquaredOfItsDropHeight) {
 // are the elastic closed form v1' = ((m1 - m2) v1 + 2 m2 v2) / (m1 + m2), and with e = 0 both
 // move at the common velocity.
 TEST(Collision, FrictionlessHeadOnCollisionConservesMomentum) {
-  for (const SolverType type : {SolverType::Exact, SolverType::Pgs}) {
+  for (const SolverType type : {SolverType::Exact, SolverType::Pgs, SolverType::Soft}) {
     for (const double e : {0.0, 1.0}) {
       WorldSettings s;
       s.gravity = Vec3::Zero();

@@ -448,7 +448,7 @@ TEST(SceneError, Solver) {
   expectErrors({
       {[](json& s) { s["solver"] = "pgs"; }, "solver", "expected an object, got a string"},
       {[](json& s) { s["solver"]["type"] = "fast"; }, "solver.type",
-       "unknown solver type 'fast' (expected \"auto\", \"exact\" or \"pgs\")"},
+       "unknown solver type 'fast' (expected \"auto\", \"exact\", \"pgs\" or \"soft\")"},
       {[](json& s) { s["solver"]["iteration"] = 5; }, "solver.iteration",
        "unknown field (did you mean 'iterations'?)"},
       {[](json& s) { s["solver"]["iterations"] = 0; }, "solver.iterations",

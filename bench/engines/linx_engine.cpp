@@ -147,6 +147,11 @@ std::vector<Variant> linxVariants(const Scene& scene) {
     if (cores > 1)
       out.push_back(
           variant(name + ", " + std::to_string(cores) + " threads", defaults, false, cores));
+    // The soft step (docs/solver.md), one thread: rows prepared once, 4 substeps of one sweep.
+    linx::SolverSettings soft = defaults;
+    soft.type = linx::SolverType::Soft;
+    soft.substeps = 4;
+    out.push_back(variant("soft step, 4 substeps", soft, false));
     return out;
   }
   // Mechanisms: the default, then with position projection, which removes the joint drift that

@@ -28,6 +28,12 @@ struct ContactSettings {
   /// The fastest (m/s) that penetration is pushed out: a body created deep inside another leaves
   /// it at this speed instead of erp / h times the depth (10 m/s for 5 cm at h = 1 ms).
   double max_push_out = 3.0;
+  /// Soft step (solver type "soft"): the contacts' spring frequency (Hz) and damping ratio, in
+  /// place of erp, cfm and slop. A resting contact sinks by g / (2 pi hertz)^2 under its own
+  /// body's weight, more under a stack, so the default 0 takes the stiffest that stays stable, an
+  /// eighth of the substep rate (60 Hz at 60 Hz and 8 substeps); a given value is capped there.
+  double hertz = 0.0;
+  double damping_ratio = 10.0;
 };
 
 /// When bodies fall asleep: an island (bodies linked by joints and contacts) whose bodies have all

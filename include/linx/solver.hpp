@@ -9,6 +9,9 @@ enum class SolverType {
   Auto,   ///< per island: Exact without friction rows (mechanisms), Pgs with them (contacts)
   Exact,  ///< sparse factorization + active set: joints to round-off, closed loops included
   Pgs,    ///< projected Gauss-Seidel with warm starting
+  /// The soft step (docs/solver.md): rows prepared once per step, then `substeps` substeps of
+  /// one soft sweep and one relax sweep each, positions integrated in between.
+  Soft,
 };
 
 struct SolverSettings {
@@ -19,9 +22,13 @@ struct SolverSettings {
   double cfm = 1e-10;        ///< constraint force mixing, >= 0
   bool warm_start = true;    ///< start from the previous step's impulses (matched by row key)
   double sor = 1.0;          ///< PGS over-relaxation, (0, 2)
-  int substeps = 1;          ///< each step split into this many assemble-solve-integrate passes
-  bool projection = false;   ///< post-stabilization: pull joint errors back after each step
-  int projection_iterations = 3;        ///< Newton iterations of the projection
+  /// Each step split into this many assemble-solve-integrate passes; with type Soft, the
+  /// substeps of the soft step (the rows are prepared once per step).
+  int substeps = 1;
+  double joint_hertz = 60.0;         ///< soft step: joints' position correction frequency (Hz)
+  double joint_damping_ratio = 2.0;  ///< soft step: ... and its damping ratio
+  bool projection = false;           ///< post-stabilization: pull joint errors back after each step
+  int projection_iterations = 3;     ///< Newton iterations of the projection
   double projection_tolerance = 1e-12;  ///< stop projecting below this error (m or rad)
 };
 

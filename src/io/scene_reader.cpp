@@ -407,7 +407,8 @@ class Reader {
 
   SolverSettings solver(const Node& n) const {
     allowOnly(n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
-                  "projection", "projection_iterations", "projection_tolerance"});
+                  "projection", "projection_iterations", "projection_tolerance", "joint_hertz",
+                  "joint_damping_ratio"});
     SolverSettings s;
     if (auto t = get(n, "type")) {
       const std::string type = string(*t);
@@ -417,10 +418,12 @@ class Reader {
         s.type = SolverType::Exact;
       } else if (type == "pgs") {
         s.type = SolverType::Pgs;
+      } else if (type == "soft") {
+        s.type = SolverType::Soft;
       } else {
-        fail(t->path,
-             fmt::format("unknown solver type '{}' (expected \"auto\", \"exact\" or \"pgs\")",
-                         type));
+        fail(t->path, fmt::format("unknown solver type '{}' (expected \"auto\", \"exact\", "
+                                  "\"pgs\" or \"soft\")",
+                                  type));
       }
     }
     if (auto v = get(n, "iterations")) s.iterations = integer(*v, 1);
@@ -435,6 +438,8 @@ class Reader {
       }
     }
     if (auto v = get(n, "substeps")) s.substeps = integer(*v, 1);
+    if (auto v = get(n, "joint_hertz")) s.joint_hertz = nonNegative(*v);
+    if (auto v = get(n, "joint_damping_ratio")) s.joint_damping_ratio = nonNegative(*v);
     if (auto v = get(n, "projection")) s.projection = boolean(*v);
     if (auto v = get(n, "projection_iterations")) s.projection_iterations = integer(*v, 1);
     if (auto v = get(n, "projection_tolerance")) s.projection_tolerance = nonNegative(*v);
@@ -443,7 +448,7 @@ class Reader {
 
   ContactSettings contact(const Node& n) const {
     allowOnly(n, {"enabled", "margin", "slop", "erp", "cfm", "stiffness", "damping",
-                  "restitution_threshold", "max_push_out"});
+                  "restitution_threshold", "max_push_out", "hertz", "damping_ratio"});
     ContactSettings c;
     if (auto v = get(n, "enabled")) c.enabled = boolean(*v);
     if (auto v = get(n, "margin")) c.margin = nonNegative(*v);
@@ -452,6 +457,8 @@ class Reader {
     if (auto v = get(n, "cfm")) c.cfm = nonNegative(*v);
     if (auto v = get(n, "restitution_threshold")) c.restitution_threshold = nonNegative(*v);
     if (auto v = get(n, "max_push_out")) c.max_push_out = nonNegative(*v);
+    if (auto v = get(n, "hertz")) c.hertz = nonNegative(*v);
+    if (auto v = get(n, "damping_ratio")) c.damping_ratio = nonNegative(*v);
     const auto k = get(n, "stiffness"), d = get(n, "damping");
     if (k.has_value() != d.has_value())
       fail(childPath(n.path, k ? "damping" : "stiffness"),

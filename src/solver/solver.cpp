@@ -14,6 +14,8 @@ std::string_view solverTypeName(SolverType type) {
       return "exact";
     case SolverType::Pgs:
       return "pgs";
+    case SolverType::Soft:
+      return "soft";
   }
   return "unknown";
 }
@@ -27,6 +29,7 @@ namespace solver {
 std::unique_ptr<ConstraintSolver> makeSolver(SolverType type) {
   switch (type) {
     case SolverType::Pgs:
+    case SolverType::Soft:  // the soft step sweeps its own rows; its islands' solver is PGS
       return std::make_unique<PgsSolver>();
     case SolverType::Exact:
       return std::make_unique<ExactSolver>();

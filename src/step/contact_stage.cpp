@@ -226,7 +226,8 @@ void ContactStage::collidePair(std::span<const Body> bodies, const ContactSettin
 }
 
 void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
-                              std::vector<double>& lambda, bool warm_start, int threads) {
+                              std::vector<double>& lambda, bool warm_start, int threads,
+                              bool bounce) {
   // All normal rows first, then all friction rows: a Gauss-Seidel sweep then settles the normal
   // impulses of a whole pile before friction, whose bounds follow them, is solved against them.
   // Each contact writes its own three rows, so the contacts are split over the threads.
@@ -241,8 +242,10 @@ void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vecto
     const Body& a = bodies[static_cast<std::size_t>(r.body_a)];
     const Body& b = bodies[static_cast<std::size_t>(r.body_b)];
     std::array<Row, 3> made;
+    joints::ContactLaw law = r.law;
+    if (!bounce) law.restitution = 0.0;
     joints::contactRows(r.point, stateOf(bodies, BodyId{r.body_a}),
-                        stateOf(bodies, BodyId{r.body_b}), r.law, h, made, r.t1, r.t2);
+                        stateOf(bodies, BodyId{r.body_b}), law, h, made, r.t1, r.t2);
     r.row = static_cast<int>(first_normal + c);
     r.friction_row = static_cast<int>(first_friction + 2 * c);
     const std::array<std::size_t, 3> at{first_normal + c, first_friction + 2 * c,
@@ -286,8 +289,8 @@ const ContactStage::Impulse* ContactStage::previousImpulse(const ContactRecord& 
   return best;
 }
 
-void ContactStage::store(std::span<const Body> bodies, std::span<const double> lambda,
-                         int threads) {
+void ContactStage::store(std::span<const Body> bodies, std::span<const double> lambda, int threads,
+                         std::span<const double> reported) {
   // Records are in shape-pair order (the broadphase's), so previous_ comes out sorted by pair.
   stored_.clear();
   for (std::size_t c = 0; c < records_.size(); ++c)
@@ -304,9 +307,12 @@ void ContactStage::store(std::span<const Body> bodies, std::span<const double> l
         const Impulse impulse{lambda[k], lambda[f] * r.t1 + lambda[f + 1] * r.t2};
         const Pose& pose = bodies[static_cast<std::size_t>(r.body_a)].pose();
         previous_[out] = Previous{r.pair, r.key, pose.toLocal(r.point.point), impulse};
+        const Impulse shown =
+            reported.empty() ? impulse
+                             : Impulse{reported[k], reported[f] * r.t1 + reported[f + 1] * r.t2};
         contacts_[out] = Contact{BodyId{r.body_a}, BodyId{r.body_b}, r.shape_a,     r.shape_b,
-                                 r.point.point,    r.point.normal,   r.point.depth, impulse.normal,
-                                 impulse.friction, r.point.feature};
+                                 r.point.point,    r.point.normal,   r.point.depth, shown.normal,
+                                 shown.friction,   r.point.feature};
       });
 }
 

@@ -50,12 +50,17 @@ class ContactStage {
   void detect(std::span<const Body> bodies, std::span<const std::unique_ptr<Joint>> joints,
               const ContactSettings& settings, double h, int threads = 1);
 
-  /// Appends three rows per contact (normal, two friction) and their warm-start impulses.
+  /// Appends three rows per contact (normal, two friction) and their warm-start impulses. With
+  /// `bounce` false the normal rows leave restitution out (the soft step applies it after its
+  /// substeps, from the records' laws).
   void appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
-                  std::vector<double>& lambda, bool warm_start, int threads = 1);
+                  std::vector<double>& lambda, bool warm_start, int threads = 1,
+                  bool bounce = true);
 
-  /// Keeps the solved impulses for the next step's warm start and the contacts() report.
-  void store(std::span<const Body> bodies, std::span<const double> lambda, int threads = 1);
+  /// Keeps the solved impulses for the next step's warm start and the contacts() report, which
+  /// takes `reported` instead when given (the soft step's impulses over all its substeps).
+  void store(std::span<const Body> bodies, std::span<const double> lambda, int threads = 1,
+             std::span<const double> reported = {});
 
   std::span<const ContactRecord> records() const { return records_; }
   /// Appends the bodies that touched `body` in the last step.

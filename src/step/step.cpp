@@ -2,6 +2,7 @@
 
 #include "dynamics/integrator.hpp"
 #include "parallel/parallel_for.hpp"
+#include "solver/soft_solver.hpp"
 #include "step/assembly.hpp"
 #include "step/projection.hpp"
 
@@ -46,24 +47,28 @@ void integrateVelocities(const Scene& scene, const State& state, double h) {
 }
 
 /// collide: this pass's contact points from the bodies' poses and velocities.
-void collide(const Scene& scene, State& state, double h) {
-  state.contact.detect(scene.bodies, scene.joints, scene.settings.contact, h, scene.threads);
+void collide(const Scene& scene, State& state, double h, const ContactSettings& settings) {
+  state.contact.detect(scene.bodies, scene.joints, settings, h, scene.threads);
 }
 
 /// prepare: the joints' rows, then three rows per contact point, each with its warm start.
-void prepareRows(const Scene& scene, State& state, double h) {
+/// `h_joints` is the length the joints' rows act over (a motor's bound is h F), `h` the step's;
+/// `bounce`: restitution as the normal rows' target (the soft step applies it after its substeps).
+void prepareRows(const Scene& scene, State& state, double h_joints, double h, bool bounce) {
   const SolverSettings& solver = scene.settings.solver;
   Rows& r = state.rows;
-  assembleRows(scene.joints, scene.bodies, solver, h, r.rows);
+  assembleRows(scene.joints, scene.bodies, solver, h_joints, r.rows);
   r.joint_rows = r.rows.size();
   r.lambda.assign(r.joint_rows, 0.0);
   if (solver.warm_start) state.joint_warm.load(r.rows, r.lambda);
-  state.contact.appendRows(scene.bodies, h, r.rows, r.lambda, solver.warm_start, scene.threads);
+  state.contact.appendRows(scene.bodies, h, r.rows, r.lambda, solver.warm_start, scene.threads,
+                           bounce);
 }
 
 /// islands: bodies linked by this pass's rows. With sleeping on, an island with an awake body
-/// wakes entirely, and the bodies it wakes get this pass's velocity update; with it off, every
-/// body is awake. Returns one awake flag per island (empty: all awake).
+/// wakes entirely, and the bodies it wakes get this pass's velocity update (`h` > 0; the soft
+/// step integrates velocities in its substeps); with it off, every body is awake. Returns one
+/// awake flag per island (empty: all awake).
 std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, double h) {
   rowLinks(state.rows.rows, state.links);
   const std::size_t n = scene.bodies.size();
@@ -80,7 +85,7 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
   was_asleep.resize(n);
   for (std::size_t i = 0; i < n; ++i) was_asleep[i] = !awake(state, i);
   const std::span<const std::uint8_t> island_awake = state.sleep.wakeIslands(state.islands);
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < n && h > 0.0; ++i)
     if (was_asleep[i] && awake(state, i))
       dynamics::integrateVelocity(scene.bodies[i], scene.settings.gravity, h);
   return island_awake;
@@ -89,14 +94,18 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
 /// solve: gathers the compact solver bodies (u*), solves every awake island with the world's
 /// solver; the solver bodies then hold u+ and the rows' impulses lambda. Sleeping islands keep
 /// the impulses they rest on, for when they wake.
-SolverReport solve(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake,
-                   double h) {
+void gatherSolverBodies(const Scene& scene, State& state) {
   state.solver_bodies.resize(scene.bodies.size());
   eachBody(scene, [&](std::size_t i) {
     const Body& b = scene.bodies[i];
     state.solver_bodies[i] = solver::SolverBody{b.inverseMass(), b.inverseInertiaWorld(),
                                                 b.linearVelocity(), b.angularVelocity()};
   });
+}
+
+SolverReport solve(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake,
+                   double h) {
+  gatherSolverBodies(scene, state);
   const SolverSettings& settings = scene.settings.solver;
   if (!state.solver || state.solver_type != settings.type) {
     state.solver = solver::makeSolver(settings.type);
@@ -107,11 +116,115 @@ SolverReport solve(const Scene& scene, State& state, std::span<const std::uint8_
                       scene.threads);
 }
 
-/// store: the impulses, for the next pass's warm start and the contacts() report.
-void storeImpulses(const Scene& scene, State& state) {
+/// substeps (the soft step's solve, positions and relax): the rows prepared once; per substep
+/// of h = dt / n, velocities integrated, the impulses warm-started, one sweep with the soft bias,
+/// positions integrated, one relax sweep without it (solver/soft_solver.hpp); then restitution.
+/// Rows of sleeping
+/// islands keep their impulses and their bodies stay; the rows' impulses are the last
+/// substep's, `state.soft_total` theirs over the step.
+SolverReport substeps(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake,
+                      double dt) {
+  const SolverSettings& settings = scene.settings.solver;
+  const int n = std::max(1, settings.substeps);
+  const double h = dt / n;
+  const std::vector<Row>& rows = state.rows.rows;
+  // A row acts when its island is awake (its movable end's island).
+  state.island_work.row_island.resize(rows.size());
+  std::vector<std::uint8_t>& active = state.row_active;
+  std::vector<std::uint8_t>& contact = state.row_contact;
+  active.resize(rows.size());
+  contact.resize(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const int a = rows[k].body_a >= 0 ? state.islands.islandOf(rows[k].body_a) : -1;
+    const int island = a >= 0                ? a
+                       : rows[k].body_b >= 0 ? state.islands.islandOf(rows[k].body_b)
+                                             : -1;
+    state.island_work.row_island[k] = island;
+    active[k] = island >= 0 &&
+                (island_awake.empty() || island_awake[static_cast<std::size_t>(island)] != 0);
+    contact[k] = k >= state.rows.joint_rows;
+  }
+  // Manifolds: a contact's normal rows by shape pair (records come in pair order).
+  std::vector<int>& manifold = state.row_manifold;
+  manifold.assign(rows.size(), -1);
+  {
+    int id = -1;
+    std::uint64_t pair = 0;
+    for (const ContactRecord& r : state.contact.records()) {
+      if (r.row < 0) continue;
+      if (id < 0 || r.pair != pair) {
+        ++id;
+        pair = r.pair;
+      }
+      manifold[static_cast<std::size_t>(r.row)] = id;
+    }
+  }
+  gatherSolverBodies(scene, state);
+  const ContactSettings& contacts = scene.settings.contact;
+  // A quarter of the substep rate is the stiffest one row can be and stay stable. A face's four
+  // contact points act together, as one spring twice as fast: a stack of five boxes jittered at
+  // a quarter (60 Hz with substeps of 1/240 s) and stands at an eighth, which contact hertz 0
+  // (the default) takes; a given hertz is capped there.
+  const double quarter = 0.25 / h, eighth = 0.125 / h;
+  const double contact_hertz = contacts.hertz > 0.0 ? std::min(contacts.hertz, eighth) : eighth;
+  solver::SoftSolver::Settings soft{solver::Softness::of(contact_hertz, contacts.damping_ratio, h),
+                                    solver::Softness::of(std::min(settings.joint_hertz, quarter),
+                                                         settings.joint_damping_ratio, h),
+                                    contacts.max_push_out, h, n};
+  solver::SoftSolver& solver = state.soft;
+  solver.prepare(rows, state.rows.lambda, active, contact, manifold, state.solver_bodies, soft);
+  const std::span<solver::SoftSolver::Body> bodies = solver.bodies();
+  const auto moving = [&](std::size_t i) { return !scene.bodies[i].isStatic() && awake(state, i); };
+  const auto toBodies = [&] {
+    eachBody(scene, [&](std::size_t i) {
+      if (!moving(i)) return;
+      scene.bodies[i].setLinearVelocity(bodies[i].v);
+      scene.bodies[i].setAngularVelocity(bodies[i].w);
+    });
+  };
+  for (int s = 0; s < n; ++s) {
+    eachBody(scene, [&](std::size_t i) {
+      if (!moving(i)) return;
+      dynamics::integrateVelocity(scene.bodies[i], scene.settings.gravity, h);
+      bodies[i].v = scene.bodies[i].linearVelocity();
+      bodies[i].w = scene.bodies[i].angularVelocity();
+    });
+    solver.warmStart();
+    solver.sweep(true);
+    toBodies();
+    eachBody(scene, [&](std::size_t i) {
+      if (moving(i)) dynamics::integratePosition(scene.bodies[i], h);
+    });
+    solver.move(h);
+    solver.sweep(false);
+    solver.accumulate();
+    toBodies();
+  }
+  // restitution: contacts that approached faster than the threshold at the start of the step
+  // and took an impulse leave at e times that speed.
+  state.bounces.clear();
+  for (const ContactRecord& r : state.contact.records())
+    if (r.row >= 0 && r.law.restitution > 0.0)
+      state.bounces.push_back(
+          solver::SoftSolver::Bounce{r.row, r.law.restitution, r.law.restitution_threshold});
+  solver.restitution(state.bounces);
+  toBodies();
+  std::copy(solver.lambda().begin(), solver.lambda().end(), state.rows.lambda.begin());
+  SolverReport report;
+  report.rows = static_cast<int>(std::count(active.begin(), active.end(), std::uint8_t{1}));
+  report.iterations = n;
+  report.residual = solver.residual();
+  report.converged = report.residual <= settings.tolerance;
+  return report;
+}
+
+/// store: the impulses, for the next pass's warm start and the contacts() report (the soft
+/// step's: their sum over its substeps).
+void storeImpulses(const Scene& scene, State& state, bool soft) {
   const Rows& r = state.rows;
   state.joint_warm.store(std::span<const Row>(r.rows).first(r.joint_rows), r.lambda);
-  state.contact.store(scene.bodies, r.lambda, scene.threads);
+  state.contact.store(scene.bodies, r.lambda, scene.threads,
+                      soft ? state.soft.total() : std::span<const double>{});
 }
 
 /// positions: awake bodies take u+ and move by it.
@@ -164,17 +277,35 @@ void sleep(const Scene& scene, State& state, double h) {
 }  // namespace
 
 SolverReport pass(const Scene& scene, State& state, double h) {
+  if (scene.settings.solver.type == SolverType::Soft) return softStep(scene, state, h);
   wakeDisturbed(scene, state);
   integrateVelocities(scene, state, h);
-  collide(scene, state, h);
-  prepareRows(scene, state, h);
+  collide(scene, state, h, scene.settings.contact);
+  prepareRows(scene, state, h, h, true);
   const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, h);
   const SolverReport report = solve(scene, state, island_awake, h);
-  storeImpulses(scene, state);
+  storeImpulses(scene, state, false);
   integratePositions(scene, state, h);
   project(scene, state);
   trackJoints(scene);
   sleep(scene, state, h);
+  return report;
+}
+
+SolverReport softStep(const Scene& scene, State& state, double dt) {
+  const int n = std::max(1, scene.settings.solver.substeps);
+  wakeDisturbed(scene, state);
+  // Soft contacts need no slop: the spring holds a resting contact still, at its whole depth.
+  ContactSettings contacts = scene.settings.contact;
+  contacts.slop = 0.0;
+  collide(scene, state, dt, contacts);
+  prepareRows(scene, state, dt / n, dt, false);
+  const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, 0.0);
+  const SolverReport report = substeps(scene, state, island_awake, dt);
+  storeImpulses(scene, state, true);
+  project(scene, state);
+  trackJoints(scene);
+  sleep(scene, state, dt);
   return report;
 }
 

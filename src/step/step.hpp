@@ -27,6 +27,7 @@
 #include <linx/world.hpp>
 
 #include "solver/problem.hpp"
+#include "solver/soft_solver.hpp"
 #include "step/contact_stage.hpp"
 #include "step/island_solver.hpp"
 #include "step/islands.hpp"
@@ -68,12 +69,21 @@ struct State {
   SolverType solver_type = SolverType::Auto;  ///< what `solver` is
   // scratch
   std::vector<std::pair<int, int>> links;
-  std::vector<std::uint8_t> movable, may_sleep;
+  std::vector<std::uint8_t> movable, may_sleep, row_active, row_contact;
+  std::vector<int> row_manifold;
+  solver::SoftSolver soft;
+  std::vector<solver::SoftSolver::Bounce> bounces;
   std::vector<int> neighbours;
 };
 
-/// One pass of length h (s) through the stages above. Returns the solve's report.
+/// One pass of length h (s) through the stages above (the soft step's with solver type Soft).
+/// Returns the solve's report.
 SolverReport pass(const Scene& scene, State& state, double h);
+
+/// The soft step of length dt (solver type Soft): wake, collide, prepare, islands once, then
+/// `substeps` substeps of (velocities, warm start, soft sweep, positions, relax), then store,
+/// project, track and sleep.
+SolverReport softStep(const Scene& scene, State& state, double dt);
 
 /// Wakes body `index` (unless static) and the bodies it touched in the last pass: if it moves
 /// away, or was moved away, they must notice.

@@ -122,7 +122,9 @@ void World::step() {
   if (!(faults.kinetic_fraction >= 0.0 && faults.height >= 0.0 && faults.speed >= 0.0) ||
       !std::isfinite(faults.kinetic_fraction + faults.height + faults.speed))
     throw std::invalid_argument("faults: kinetic_fraction, height and speed must be finite, >= 0");
-  const int substeps = std::max(1, settings_.solver.substeps);
+  // The soft step substeps within one pass; the others pass `substeps` times.
+  const int substeps =
+      settings_.solver.type == SolverType::Soft ? 1 : std::max(1, settings_.solver.substeps);
   const step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
   impl_->check.begin(bodies_, settings_.gravity);
   try {

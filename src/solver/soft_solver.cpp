@@ -1,0 +1,254 @@
+#include "solver/soft_solver.hpp"
+
+#include "solver/row_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace linx::solver {
+
+Softness Softness::of(double hertz, double damping_ratio, double h) {
+  if (!(hertz > 0.0)) return Softness{};
+  const double omega = 2.0 * std::numbers::pi * hertz;
+  const double a1 = 2.0 * damping_ratio + h * omega;
+  const double a2 = h * omega * a1;
+  const double a3 = 1.0 / (1.0 + a2);
+  return Softness{omega / a1, a2 * a3, a3};
+}
+
+void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lambda,
+                         std::span<const std::uint8_t> active,
+                         std::span<const std::uint8_t> contact, std::span<const int> manifold,
+                         std::span<const SolverBody> bodies, const Settings& settings) {
+  settings_ = settings;
+  const std::size_t n = rows.size();
+  const int none = static_cast<int>(bodies.size());
+  bodies_.resize(bodies.size() + 1);
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    bodies_[i] = Body{bodies[i].inv_mass, bodies[i].inv_inertia, bodies[i].v,
+                      bodies[i].w,        Vec3::Zero(),          Vec3::Zero()};
+  bodies_.back() = Body{};
+  lambda_.assign(lambda.begin(), lambda.end());
+  total_.resize(n);
+  rows_.clear();
+  index_.clear();
+  units_.clear();
+  // The sweep's order: each contact point's normal row followed by its friction rows (friction's
+  // bound follows the normal impulse just solved), the other rows as they come.
+  order_.clear();
+  frictions_.assign(n, -1);
+  for (std::size_t k = 0; k < n; ++k)
+    if (rows[k].kind == RowKind::Friction && rows[k].normal >= 0) {
+      const auto normal = static_cast<std::size_t>(rows[k].normal);
+      if (frictions_[normal] < 0) frictions_[normal] = static_cast<int>(k);  // the first
+    }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (rows[k].kind == RowKind::Friction && rows[k].normal >= 0) continue;  // with its normal
+    order_.push_back(static_cast<int>(k));
+    if (const int f = frictions_[k]; f >= 0)
+      for (std::size_t j = static_cast<std::size_t>(f);
+           j < n && rows[j].kind == RowKind::Friction && rows[j].normal == static_cast<int>(k); ++j)
+        order_.push_back(static_cast<int>(j));
+  }
+  compact_.assign(n, -1);
+  for (std::size_t k = 0; k < n; ++k)  // a sleeping row keeps its impulse, in every substep
+    total_[k] = active[k] ? 0.0 : lambda_[k] * settings.substeps;
+  for (const int ok : order_) {
+    const auto k = static_cast<std::size_t>(ok);
+    const Row& r = rows[k];
+    if (!active[k] || (r.body_a < 0 && r.body_b < 0)) continue;
+    if (!(r.kind == RowKind::Friction && r.normal >= 0))
+      units_.push_back(static_cast<int>(rows_.size()));
+    CompactRow c{};
+    c.ja_v = r.Ja.head<3>();
+    c.ja_w = r.Ja.tail<3>();
+    c.jb_v = r.Jb.head<3>();
+    c.jb_w = r.Jb.tail<3>();
+    c.a = r.body_a >= 0 ? r.body_a : none;
+    c.b = r.body_b >= 0 ? r.body_b : none;
+    const Body& a = bodies_[static_cast<std::size_t>(c.a)];
+    const Body& b = bodies_[static_cast<std::size_t>(c.b)];
+    c.wa_v = a.inv_mass * c.ja_v;
+    c.wa_w = a.inv_inertia * c.ja_w;
+    c.wb_v = b.inv_mass * c.jb_v;
+    c.wb_w = b.inv_inertia * c.jb_w;
+    const double k_eff =
+        c.ja_v.dot(c.wa_v) + c.ja_w.dot(c.wa_w) + c.jb_v.dot(c.wb_v) + c.jb_w.dot(c.wb_w) + r.cfm;
+    c.mass = k_eff > 0.0 ? 1.0 / k_eff : 0.0;
+    c.phi0 = r.phi;
+    c.speed = r.speed;
+    c.lo = r.lo;
+    c.hi = r.hi;
+    c.mu = r.mu;
+    c.friction = r.kind == RowKind::Friction;
+    c.normal = c.friction ? r.normal : -1;
+    c.unilateral = r.kind == RowKind::Unilateral;
+    c.positional = r.kind == RowKind::Bilateral || c.unilateral;
+    c.contact = contact[k] != 0;
+    c.rate0 = 0.0;
+    rows_.push_back(c);
+    rows_.back().rate0 = rate(rows_.back());
+    compact_[k] = static_cast<int>(index_.size());
+    index_.push_back(static_cast<int>(k));
+  }
+  // Manifolds: the active normal rows of each (numbers ascend with the rows), and each contact
+  // row's manifold.
+  group_start_.clear();
+  group_rows_.clear();
+  int last = -1;
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    CompactRow& c = rows_[i];
+    c.group = -1;
+    const auto k = static_cast<std::size_t>(index_[i]);
+    if (c.friction || manifold[k] < 0) continue;
+    if (manifold[k] != last) {
+      group_start_.push_back(static_cast<int>(group_rows_.size()));
+      last = manifold[k];
+    }
+    c.group = static_cast<int>(group_start_.size()) - 1;
+    group_rows_.push_back(static_cast<int>(i));
+  }
+  group_start_.push_back(static_cast<int>(group_rows_.size()));
+  for (CompactRow& c : rows_)
+    if (c.friction && c.normal >= 0) {
+      const int normal = compact_[static_cast<std::size_t>(c.normal)];
+      c.group = normal >= 0 ? rows_[static_cast<std::size_t>(normal)].group : -1;
+    }
+  units_.push_back(static_cast<int>(rows_.size()));
+  sweeps_ = 0;
+}
+
+double SoftSolver::phi(const CompactRow& c) const {
+  const Body& a = bodies_[static_cast<std::size_t>(c.a)];
+  const Body& b = bodies_[static_cast<std::size_t>(c.b)];
+  return c.phi0 + c.ja_v.dot(a.dp) + c.ja_w.dot(a.dq) + c.jb_v.dot(b.dp) + c.jb_w.dot(b.dq);
+}
+
+double SoftSolver::rate(const CompactRow& c) const {
+  const Body& a = bodies_[static_cast<std::size_t>(c.a)];
+  const Body& b = bodies_[static_cast<std::size_t>(c.b)];
+  return c.ja_v.dot(a.v) + c.ja_w.dot(a.w) + c.jb_v.dot(b.v) + c.jb_w.dot(b.w);
+}
+
+void SoftSolver::apply(const CompactRow& c, double delta) {
+  const int none = static_cast<int>(bodies_.size()) - 1;
+  if (c.a != none) {
+    Body& a = bodies_[static_cast<std::size_t>(c.a)];
+    a.v += delta * c.wa_v;
+    a.w += delta * c.wa_w;
+  }
+  if (c.b != none) {
+    Body& b = bodies_[static_cast<std::size_t>(c.b)];
+    b.v += delta * c.wb_v;
+    b.w += delta * c.wb_w;
+  }
+}
+
+void SoftSolver::move(double h) {
+  for (std::size_t i = 0; i + 1 < bodies_.size(); ++i) {
+    bodies_[i].dp += h * bodies_[i].v;
+    bodies_[i].dq += h * bodies_[i].w;
+  }
+}
+
+void SoftSolver::warmStart() {
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    const double l = lambda_[static_cast<std::size_t>(index_[i])];
+    if (l != 0.0) apply(rows_[i], l);
+  }
+}
+
+void SoftSolver::sweep(bool bias) {
+  const double h = settings_.h;
+  // Every other sweep visits the units (a row, or a contact point's normal and friction rows)
+  // backwards, each unit's rows still in order: a one-way sweep leaves a bias towards the rows it
+  // visits last, which walks a stack sideways.
+  const bool forward = (sweeps_++ % 2) == 0;
+  const std::size_t units = units_.size() - 1;
+  for (std::size_t visit = 0; visit < units; ++visit) {
+    const std::size_t u = forward ? visit : units - 1 - visit;
+    for (auto i = static_cast<std::size_t>(units_[u]); i < static_cast<std::size_t>(units_[u + 1]);
+         ++i) {
+      const CompactRow& c = rows_[i];
+      double& l = lambda_[static_cast<std::size_t>(index_[i])];
+      double lo = c.lo, hi = c.hi;
+      if (c.friction && c.normal >= 0) {
+        hi = frictionBound(c);
+        lo = -hi;
+      }
+      double target = 0.0;  // the bias velocity
+      double mass_scale = 1.0, impulse_scale = 0.0;
+      if (c.positional) {
+        const double error = phi(c);
+        if (c.unilateral && error > 0.0) {
+          target = error / h;  // a gap: it may close within the substep, no further
+        } else if (bias) {
+          const Softness& soft = c.contact ? settings_.contact : settings_.joint;
+          target = soft.bias_rate * error;
+          if (c.contact) target = std::max(target, -settings_.max_push_out);
+          mass_scale = soft.mass_scale;
+          impulse_scale = soft.impulse_scale;
+        }
+      }
+      const double delta = -c.mass * mass_scale * (rate(c) - c.speed + target) - impulse_scale * l;
+      const double next = std::clamp(l + delta, lo, hi);
+      apply(c, next - l);
+      l = next;
+    }
+  }
+}
+
+void SoftSolver::accumulate() {
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    const auto k = static_cast<std::size_t>(index_[i]);
+    total_[k] += lambda_[k];
+  }
+}
+
+double SoftSolver::frictionBound(const CompactRow& c) const {
+  if (c.group < 0) return c.mu * std::max(0.0, lambda_[static_cast<std::size_t>(c.normal)]);
+  const auto g = static_cast<std::size_t>(c.group);
+  double sum = 0.0;
+  for (int j = group_start_[g]; j < group_start_[g + 1]; ++j)
+    sum += std::max(
+        0.0, lambda_[static_cast<std::size_t>(
+                 index_[static_cast<std::size_t>(group_rows_[static_cast<std::size_t>(j)])])]);
+  return c.mu * sum / (group_start_[g + 1] - group_start_[g]);
+}
+
+void SoftSolver::restitution(std::span<const Bounce> bounces) {
+  for (const Bounce& b : bounces) {
+    const int i = compact_[static_cast<std::size_t>(b.row)];
+    if (i < 0) continue;
+    const CompactRow& c = rows_[static_cast<std::size_t>(i)];
+    const auto k = static_cast<std::size_t>(b.row);
+    if (c.rate0 > -b.threshold || total_[k] == 0.0) continue;
+    const double next = std::max(0.0, lambda_[k] - c.mass * (rate(c) + b.e * c.rate0));
+    apply(c, next - lambda_[k]);
+    total_[k] += next - lambda_[k];
+    lambda_[k] = next;
+  }
+}
+
+double SoftSolver::residual() const {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    const CompactRow& c = rows_[i];
+    const double l = lambda_[static_cast<std::size_t>(index_[i])];
+    double lo = c.lo, hi = c.hi;
+    if (c.friction && c.normal >= 0) {
+      hi = frictionBound(c);
+      lo = -hi;
+    }
+    double w = rate(c) - c.speed;
+    if (c.unilateral) {
+      const double error = phi(c);
+      if (error > 0.0) w += error / settings_.h;
+    }
+    worst = std::max(worst, RowSystem::violation(l, lo, hi, w));
+  }
+  return worst;
+}
+
+}  // namespace linx::solver

@@ -1,0 +1,126 @@
+// The row solver of the soft step (docs/solver.md, "The soft step"; Catto's soft step of Box2D
+// v3, Macklin et al. "Small Steps", 2019). The rows are prepared once per step; each substep of
+// length h then warm-starts them, solves them once with a soft position bias, and, after the
+// positions moved, relaxes them once without it.
+//
+// A row's position error follows the bodies within the step without a new collision pass: with
+// dx the translation and rotation vector each body made since the step began,
+//   phi = phi0 + J_a dx_a + J_b dx_b.
+// Soft constraint (a spring-damper on the row, stable for any h): with omega = 2 pi f and zeta,
+//   a1 = 2 zeta + h omega, a2 = h omega a1, a3 = 1 / (1 + a2),
+//   bias rate = omega / a1, mass scale = a2 a3, impulse scale = a3,
+//   dlambda = -m_eff (mass_scale (J v - speed + bias_rate phi)) - impulse_scale lambda.
+// Rows whose error is a gap (phi > 0: a speculative contact, a limit not reached) are rigid: they
+// let the gap close within the substep, no further (bias phi / h). A penetration is pushed out no
+// faster than max_push_out. Friction rows are rigid and bounded by mu times their normal
+// impulse. The relax pass is rigid and keeps only the gaps' bias.
+#pragma once
+
+#include <linx/row.hpp>
+#include <linx/solver.hpp>
+
+#include "solver/problem.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace linx::solver {
+
+/// Spring-damper coefficients of a soft row for a substep h.
+struct Softness {
+  double bias_rate = 0.0;  ///< (1/s)
+  double mass_scale = 1.0;
+  double impulse_scale = 0.0;
+  /// hertz <= 0: rigid (bias_rate 0, mass scale 1, impulse scale 0).
+  static Softness of(double hertz, double damping_ratio, double h);
+};
+
+class SoftSolver {
+ public:
+  /// The body state the substeps work on: velocities, and the motion since the step began.
+  struct Body {
+    double inv_mass = 0.0;
+    Mat3 inv_inertia = Mat3::Zero();
+    Vec3 v = Vec3::Zero(), w = Vec3::Zero();
+    Vec3 dp = Vec3::Zero(), dq = Vec3::Zero();  ///< translation (m), rotation vector (rad)
+  };
+
+  struct Settings {
+    Softness contact, joint;
+    double max_push_out = 3.0;  ///< (m/s)
+    double h = 0.0;             ///< substep (s)
+    int substeps = 1;           ///< of the step
+  };
+
+  /// Takes the rows (body indices into `bodies`, -1 for none; a friction row's `normal` an index
+  /// into rows), their warm-start impulses, and the bodies at the start of the step.
+  /// `active[k] == 0` leaves row k out (a sleeping island's): its impulse is kept as given.
+  /// `contact[k] != 0` marks a contact's row (contact softness), else a joint's. `manifold[k]`
+  /// groups a contact's normal rows by shape pair (equal numbers, -1 for other rows): a friction
+  /// row is bounded by mu times the mean normal impulse of its manifold (see sweep).
+  void prepare(std::span<const Row> rows, std::span<const double> lambda,
+               std::span<const std::uint8_t> active, std::span<const std::uint8_t> contact,
+               std::span<const int> manifold, std::span<const SolverBody> bodies,
+               const Settings& settings);
+
+  /// The bodies' substep state (as many as given to prepare): the caller integrates their
+  /// velocities before warmStart and moves them (move) after the bias sweep.
+  std::span<Body> bodies() { return std::span<Body>(bodies_).first(bodies_.size() - 1); }
+  /// Records that every body moved by h times its velocity (after the positions are integrated).
+  void move(double h);
+
+  /// Applies the impulses to the bodies' velocities (the start of each substep).
+  void warmStart();
+  /// One sweep over the rows: with the soft bias (`bias`), or the relax pass without it.
+  void sweep(bool bias);
+  /// Adds this substep's impulses to the step's totals (after the relax pass).
+  void accumulate();
+
+  /// A contact's normal row that may bounce: restitution e, below `threshold` (m/s) no bounce.
+  struct Bounce {
+    int row;
+    double e, threshold;
+  };
+  /// After the substeps: each normal row that approached faster than its threshold at the start
+  /// of the step and took an impulse in it is pushed to leave at e times that approach speed.
+  void restitution(std::span<const Bounce> bounces);
+
+  /// The impulse of each row in the last substep (the next step's warm start).
+  std::span<const double> lambda() const { return lambda_; }
+  /// The impulse of each row over the whole step (what contacts() reports).
+  std::span<const double> total() const { return total_; }
+  /// The largest complementarity violation of the last relax pass's impulses, as PGS reports it.
+  double residual() const;
+
+ private:
+  struct CompactRow {
+    Vec3 ja_v, ja_w, jb_v, jb_w;  // J of each end
+    Vec3 wa_v, wa_w, wb_v, wb_w;  // M^-1 J^T
+    double mass;                  // 1 / (J M^-1 J^T), 0 for a row that moves nothing
+    double rate0;                 // J u at the start of the step
+    double phi0, speed, lo, hi, mu;
+    int a, b;    // body slots; an absent end points at a slot that stays zero
+    int normal;  // friction: the normal row, else -1
+    int group;   // normal and friction rows of a contact: its manifold in groups_, else -1
+    bool contact, unilateral, friction, positional;  // positional: phi is a position error
+  };
+  double phi(const CompactRow& c) const;
+  double rate(const CompactRow& c) const;
+  void apply(const CompactRow& c, double delta);
+
+  std::vector<CompactRow> rows_;
+  std::vector<int> index_;                     // compact row -> row
+  std::vector<int> compact_;                   // row -> compact row, -1 for a row left out
+  std::vector<int> group_start_, group_rows_;  // manifolds: their normal rows (compact), CSR
+  double frictionBound(const CompactRow& c) const;
+  std::vector<double> lambda_, total_;  // by row
+  std::vector<Body> bodies_;            // and one more, always at rest, for an absent end
+  Settings settings_;
+  std::vector<int> order_;      // the rows in sweep order (all of them)
+  std::vector<int> frictions_;  // per row: its first friction row, -1 for none
+  std::vector<int> units_;      // rows_ [units_[u], units_[u + 1]) are solved together, in order
+  int sweeps_ = 0;              // sweeps since prepare
+};
+
+}  // namespace linx::solver
