@@ -17,7 +17,12 @@
 //   track       joints follow their history (a hinge counts turns)
 //   sleep       islands resting on contacts for long enough fall asleep     step/sleep
 //
-// After the passes World::step() runs `check` (step/check): a non-finite state stops the run.
+// With solver type Soft, World::step() runs softStep instead: wake, collide, prepare and islands
+// once, then `substeps` (velocities, warm start, soft sweep, positions, relax per substep;
+// solver/soft_solver), restitution, store, project, track and sleep.
+//
+// After the passes World::step() runs `check` (step/check): a non-finite state, or energy made
+// while nothing drives the world, stops the run.
 #pragma once
 
 #include <linx/body.hpp>
