@@ -25,10 +25,8 @@ struct SolverSettings {
   /// Each step split into this many assemble-solve-integrate passes; with type Soft, the
   /// substeps of the soft step (the rows are prepared once per step).
   int substeps = 1;
-  double joint_hertz = 60.0;         ///< soft step: joints' position correction frequency (Hz)
-  double joint_damping_ratio = 2.0;  ///< soft step: ... and its damping ratio
-  bool projection = false;           ///< post-stabilization: pull joint errors back after each step
-  int projection_iterations = 3;     ///< Newton iterations of the projection
+  bool projection = false;        ///< post-stabilization: pull joint errors back after each step
+  int projection_iterations = 3;  ///< Newton iterations of the projection
   double projection_tolerance = 1e-12;  ///< stop projecting below this error (m or rad)
 };
 

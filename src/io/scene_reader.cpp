@@ -407,8 +407,7 @@ class Reader {
 
   SolverSettings solver(const Node& n) const {
     allowOnly(n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
-                  "projection", "projection_iterations", "projection_tolerance", "joint_hertz",
-                  "joint_damping_ratio"});
+                  "projection", "projection_iterations", "projection_tolerance"});
     SolverSettings s;
     if (auto t = get(n, "type")) {
       const std::string type = string(*t);
@@ -438,8 +437,6 @@ class Reader {
       }
     }
     if (auto v = get(n, "substeps")) s.substeps = integer(*v, 1);
-    if (auto v = get(n, "joint_hertz")) s.joint_hertz = nonNegative(*v);
-    if (auto v = get(n, "joint_damping_ratio")) s.joint_damping_ratio = nonNegative(*v);
     if (auto v = get(n, "projection")) s.projection = boolean(*v);
     if (auto v = get(n, "projection_iterations")) s.projection_iterations = integer(*v, 1);
     if (auto v = get(n, "projection_tolerance")) s.projection_tolerance = nonNegative(*v);

@@ -5,6 +5,7 @@
 #include "solver/soft_solver.hpp"
 #include "step/assembly.hpp"
 #include "step/projection.hpp"
+#include "step/substep_joints.hpp"
 
 #include <algorithm>
 
@@ -116,9 +117,11 @@ SolverReport solve(const Scene& scene, State& state, std::span<const std::uint8_
                       scene.threads);
 }
 
-/// substeps (the soft step's solve, positions and relax): the rows prepared once; per substep
-/// of h = dt / n, velocities integrated, the impulses warm-started, one sweep with the soft bias,
-/// positions integrated, one relax sweep without it (solver/soft_solver.hpp); then restitution.
+/// substeps (the soft step's solve, positions and relax): the contact rows prepared once; per
+/// substep of h = dt / n, velocities integrated, the joints' rows assembled at the current poses
+/// (step/substep_joints), the impulses warm-started, one sweep over the contacts with the soft
+/// bias and the joints solved exactly, positions integrated, one relax sweep without the bias
+/// and the joints solved exactly again (solver/soft_solver.hpp); then restitution.
 /// Rows of sleeping
 /// islands keep their impulses and their bodies stay; the rows' impulses are the last
 /// substep's, `state.soft_total` theirs over the step.
@@ -143,6 +146,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     active[k] = island >= 0 &&
                 (island_awake.empty() || island_awake[static_cast<std::size_t>(island)] != 0);
     contact[k] = k >= state.rows.joint_rows;
+    if (!contact[k]) active[k] = 0;  // the joints are solved exactly, below
   }
   // Manifolds: a contact's normal rows by shape pair (records come in pair order).
   std::vector<int>& manifold = state.row_manifold;
@@ -165,16 +169,20 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   // contact points act together, as one spring twice as fast: a stack of five boxes jittered at
   // a quarter (60 Hz with substeps of 1/240 s) and stands at an eighth, which contact hertz 0
   // (the default) takes; a given hertz is capped there.
-  const double quarter = 0.25 / h, eighth = 0.125 / h;
+  const double eighth = 0.125 / h;
   const double contact_hertz = contacts.hertz > 0.0 ? std::min(contacts.hertz, eighth) : eighth;
-  solver::SoftSolver::Settings soft{solver::Softness::of(contact_hertz, contacts.damping_ratio, h),
-                                    solver::Softness::of(std::min(settings.joint_hertz, quarter),
-                                                         settings.joint_damping_ratio, h),
-                                    contacts.max_push_out, h, n};
+  const solver::SoftSolver::Settings soft{
+      solver::Softness::of(contact_hertz, contacts.damping_ratio, h), solver::Softness{},
+      contacts.max_push_out, h, n};
   solver::SoftSolver& solver = state.soft;
   solver.prepare(rows, state.rows.lambda, active, contact, manifold, state.solver_bodies, soft);
   const std::span<solver::SoftSolver::Body> bodies = solver.bodies();
-  const auto moving = [&](std::size_t i) { return !scene.bodies[i].isStatic() && awake(state, i); };
+  state.moving.resize(scene.bodies.size());
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    state.moving[i] = !scene.bodies[i].isStatic() && awake(state, i);
+  const auto moving = [&](std::size_t i) { return state.moving[i] != 0; };
+  SubstepJoints& joints = state.substep_joints;
+  SolverReport joint_report;
   const auto toBodies = [&] {
     eachBody(scene, [&](std::size_t i) {
       if (!moving(i)) return;
@@ -189,15 +197,22 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
       bodies[i].v = scene.bodies[i].linearVelocity();
       bodies[i].w = scene.bodies[i].angularVelocity();
     });
+    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm);
     solver.warmStart();
+    joints.warmStart(bodies);
     solver.sweep(true);
+    if (!joints.empty()) joints.solve(bodies, true, settings, h, scene.threads);
     toBodies();
     eachBody(scene, [&](std::size_t i) {
       if (moving(i)) dynamics::integratePosition(scene.bodies[i], h);
     });
     solver.move(h);
     solver.sweep(false);
+    joints.store(state.joint_warm);
+    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm);
+    if (!joints.empty()) joint_report = joints.solve(bodies, false, settings, h, scene.threads);
     solver.accumulate();
+    joints.store(state.joint_warm);
     toBodies();
   }
   // restitution: contacts that approached faster than the threshold at the start of the step
@@ -211,9 +226,11 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   toBodies();
   std::copy(solver.lambda().begin(), solver.lambda().end(), state.rows.lambda.begin());
   SolverReport report;
-  report.rows = static_cast<int>(std::count(active.begin(), active.end(), std::uint8_t{1}));
+  report.rows = static_cast<int>(std::count(active.begin(), active.end(), std::uint8_t{1})) +
+                joint_report.rows;
   report.iterations = n;
-  report.residual = solver.residual();
+  report.residual = std::max(solver.residual(), joint_report.residual);
+  report.redundant_rows = joint_report.redundant_rows;
   report.converged = report.residual <= settings.tolerance;
   return report;
 }
@@ -222,7 +239,8 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
 /// step's: their sum over its substeps).
 void storeImpulses(const Scene& scene, State& state, bool soft) {
   const Rows& r = state.rows;
-  state.joint_warm.store(std::span<const Row>(r.rows).first(r.joint_rows), r.lambda);
+  // The soft step's joints stored theirs after each substep.
+  if (!soft) state.joint_warm.store(std::span<const Row>(r.rows).first(r.joint_rows), r.lambda);
   state.contact.store(scene.bodies, r.lambda, scene.threads,
                       soft ? state.soft.total() : std::span<const double>{});
 }

@@ -38,6 +38,7 @@
 #include "step/islands.hpp"
 #include "step/joint_warm_start.hpp"
 #include "step/sleep.hpp"
+#include "step/substep_joints.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -76,6 +77,8 @@ struct State {
   std::vector<std::pair<int, int>> links;
   std::vector<std::uint8_t> movable, may_sleep, row_active, row_contact;
   std::vector<int> row_manifold;
+  std::vector<std::uint8_t> moving;  // soft step: movable and awake
+  SubstepJoints substep_joints;
   solver::SoftSolver soft;
   std::vector<solver::SoftSolver::Bounce> bounces;
   std::vector<int> neighbours;

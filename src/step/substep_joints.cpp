@@ -1,0 +1,68 @@
+#include "step/substep_joints.hpp"
+
+#include "step/assembly.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace linx::step {
+
+void SubstepJoints::prepare(std::span<const std::unique_ptr<Joint>> joints,
+                            std::span<const Body> bodies, const SolverSettings& settings, double h,
+                            std::span<const std::uint8_t> moving, JointWarmStart& warm) {
+  assembleRows(joints, bodies, settings, h, all_);
+  rows_.clear();
+  const auto moves = [&](int body) {
+    return body >= 0 && moving[static_cast<std::size_t>(body)] != 0;
+  };
+  for (const Row& r : all_)
+    if (moves(r.body_a) || moves(r.body_b)) rows_.push_back(r);
+  lambda_.resize(rows_.size());
+  warm.load(rows_, lambda_);
+}
+
+void SubstepJoints::apply(std::span<solver::SoftSolver::Body> bodies,
+                          std::span<const double> impulses) const {
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    const double l = impulses[k];
+    if (l == 0.0) continue;
+    const Row& r = rows_[k];
+    for (const auto& [body, j] : {std::pair{r.body_a, &r.Ja}, std::pair{r.body_b, &r.Jb}}) {
+      if (body < 0) continue;
+      solver::SoftSolver::Body& b = bodies[static_cast<std::size_t>(body)];
+      b.v += (l * b.inv_mass) * j->head<3>();
+      b.w += l * (b.inv_inertia * j->tail<3>());
+    }
+  }
+}
+
+void SubstepJoints::warmStart(std::span<solver::SoftSolver::Body> bodies) const {
+  apply(bodies, lambda_);
+}
+
+SolverReport SubstepJoints::solve(std::span<solver::SoftSolver::Body> bodies, bool bias,
+                                  const SolverSettings& settings, double h, int threads) {
+  // The change of each impulse, within the bounds that the impulse so far leaves.
+  shifted_ = rows_;
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    Row& r = shifted_[k];
+    r.lo -= lambda_[k];
+    r.hi -= lambda_[k];
+    if (!bias) r.erp = 0.0;
+  }
+  gathered_.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    gathered_[i] =
+        solver::SolverBody{bodies[i].inv_mass, bodies[i].inv_inertia, bodies[i].v, bodies[i].w};
+  delta_.assign(rows_.size(), 0.0);
+  solver::Problem problem{shifted_, gathered_, delta_, h, threads};
+  const SolverReport report = exact_.solve(problem, settings);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    bodies[i].v = gathered_[i].v;
+    bodies[i].w = gathered_[i].w;
+  }
+  for (std::size_t k = 0; k < rows_.size(); ++k) lambda_[k] += delta_[k];
+  return report;
+}
+
+}  // namespace linx::step
