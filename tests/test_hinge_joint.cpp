@@ -64,7 +64,8 @@ TEST_P(HingePeriod, RodReleasedAt90DegreesHasTheEllipticPeriod) {
   EXPECT_LT(rel, 2e-3);
   EXPECT_LT(p.world.maxJointError(), 1e-4);
 }
-INSTANTIATE_TEST_SUITE_P(Solvers, HingePeriod, testing::Values(SolverType::Exact, SolverType::Pgs),
+INSTANTIATE_TEST_SUITE_P(Solvers, HingePeriod,
+                         testing::Values(SolverType::Exact, SolverType::Pgs, SolverType::Soft),
                          [](const auto& info) { return std::string(solverTypeName(info.param)); });
 
 // Regression (issue 15): a light bob (10 g sphere of 2 cm radius) on a 0.78 m arm that lies along
