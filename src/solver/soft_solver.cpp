@@ -18,8 +18,7 @@ Softness Softness::of(double hertz, double damping_ratio, double h) {
 }
 
 void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lambda,
-                         std::span<const std::uint8_t> active,
-                         std::span<const std::uint8_t> contact, std::span<const int> manifold,
+                         std::span<const std::uint8_t> active, std::span<const int> manifold,
                          std::span<const SolverBody> bodies, const Settings& settings) {
   settings_ = settings;
   const std::size_t n = rows.size();
@@ -85,7 +84,6 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
     c.normal = c.friction ? r.normal : -1;
     c.unilateral = r.kind == RowKind::Unilateral;
     c.positional = r.kind == RowKind::Bilateral || c.unilateral;
-    c.contact = contact[k] != 0;
     c.rate0 = 0.0;
     rows_.push_back(c);
     rows_.back().rate0 = rate(rows_.back());
@@ -184,9 +182,9 @@ void SoftSolver::sweep(bool bias) {
         if (c.unilateral && error > 0.0) {
           target = error / h;  // a gap: it may close within the substep, no further
         } else if (bias) {
-          const Softness& soft = c.contact ? settings_.contact : settings_.joint;
+          const Softness& soft = settings_.contact;
           target = soft.bias_rate * error;
-          if (c.contact) target = std::max(target, -settings_.max_push_out);
+          target = std::max(target, -settings_.max_push_out);
           mass_scale = soft.mass_scale;
           impulse_scale = soft.impulse_scale;
         }

@@ -10,10 +10,11 @@
 //   a1 = 2 zeta + h omega, a2 = h omega a1, a3 = 1 / (1 + a2),
 //   bias rate = omega / a1, mass scale = a2 a3, impulse scale = a3,
 //   dlambda = -m_eff (mass_scale (J v - speed + bias_rate phi)) - impulse_scale lambda.
-// Rows whose error is a gap (phi > 0: a speculative contact, a limit not reached) are rigid: they
-// let the gap close within the substep, no further (bias phi / h). A penetration is pushed out no
-// faster than max_push_out. Friction rows are rigid and bounded by mu times their normal
-// impulse. The relax pass is rigid and keeps only the gaps' bias.
+// The rows are contacts' (the joints are solved exactly, step/substep_joints). A row whose error
+// is a gap (phi > 0: a speculative contact) is rigid: it lets the gap close within the substep, no
+// further (bias phi / h). A penetration is pushed out no faster than max_push_out. Friction rows
+// are rigid and bounded by mu times the mean normal impulse of their manifold. The relax pass is
+// rigid and keeps only the gaps' bias.
 #pragma once
 
 #include <linx/row.hpp>
@@ -47,7 +48,7 @@ class SoftSolver {
   };
 
   struct Settings {
-    Softness contact, joint;
+    Softness contact;
     double max_push_out = 3.0;  ///< (m/s)
     double h = 0.0;             ///< substep (s)
     int substeps = 1;           ///< of the step
@@ -56,13 +57,12 @@ class SoftSolver {
   /// Takes the rows (body indices into `bodies`, -1 for none; a friction row's `normal` an index
   /// into rows), their warm-start impulses, and the bodies at the start of the step.
   /// `active[k] == 0` leaves row k out (a sleeping island's): its impulse is kept as given.
-  /// `contact[k] != 0` marks a contact's row (contact softness), else a joint's. `manifold[k]`
-  /// groups a contact's normal rows by shape pair (equal numbers, -1 for other rows): a friction
-  /// row is bounded by mu times the mean normal impulse of its manifold (see sweep).
+  /// The rows are contacts' (the soft step solves the joints exactly, step/substep_joints).
+  /// `manifold[k]` groups a contact's normal rows by shape pair (equal numbers, -1 for other
+  /// rows): a friction row is bounded by mu times the mean normal impulse of its manifold.
   void prepare(std::span<const Row> rows, std::span<const double> lambda,
-               std::span<const std::uint8_t> active, std::span<const std::uint8_t> contact,
-               std::span<const int> manifold, std::span<const SolverBody> bodies,
-               const Settings& settings);
+               std::span<const std::uint8_t> active, std::span<const int> manifold,
+               std::span<const SolverBody> bodies, const Settings& settings);
 
   /// The bodies' substep state (as many as given to prepare): the caller integrates their
   /// velocities before warmStart and moves them (move) after the bias sweep.
@@ -103,7 +103,7 @@ class SoftSolver {
     int a, b;    // body slots; an absent end points at a slot that stays zero
     int normal;  // friction: the normal row, else -1
     int group;   // normal and friction rows of a contact: its manifold in groups_, else -1
-    bool contact, unilateral, friction, positional;  // positional: phi is a position error
+    bool unilateral, friction, positional;  // positional: phi is a position error
   };
   double phi(const CompactRow& c) const;
   double rate(const CompactRow& c) const;

@@ -134,9 +134,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   // A row acts when its island is awake (its movable end's island).
   state.island_work.row_island.resize(rows.size());
   std::vector<std::uint8_t>& active = state.row_active;
-  std::vector<std::uint8_t>& contact = state.row_contact;
   active.resize(rows.size());
-  contact.resize(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const int a = rows[k].body_a >= 0 ? state.islands.islandOf(rows[k].body_a) : -1;
     const int island = a >= 0                ? a
@@ -145,8 +143,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     state.island_work.row_island[k] = island;
     active[k] = island >= 0 &&
                 (island_awake.empty() || island_awake[static_cast<std::size_t>(island)] != 0);
-    contact[k] = k >= state.rows.joint_rows;
-    if (!contact[k]) active[k] = 0;  // the joints are solved exactly, below
+    if (k < state.rows.joint_rows) active[k] = 0;  // the joints are solved exactly, below
   }
   // Manifolds: a contact's normal rows by shape pair (records come in pair order).
   std::vector<int>& manifold = state.row_manifold;
@@ -172,10 +169,9 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   const double eighth = 0.125 / h;
   const double contact_hertz = contacts.hertz > 0.0 ? std::min(contacts.hertz, eighth) : eighth;
   const solver::SoftSolver::Settings soft{
-      solver::Softness::of(contact_hertz, contacts.damping_ratio, h), solver::Softness{},
-      contacts.max_push_out, h, n};
+      solver::Softness::of(contact_hertz, contacts.damping_ratio, h), contacts.max_push_out, h, n};
   solver::SoftSolver& solver = state.soft;
-  solver.prepare(rows, state.rows.lambda, active, contact, manifold, state.solver_bodies, soft);
+  solver.prepare(rows, state.rows.lambda, active, manifold, state.solver_bodies, soft);
   const std::span<solver::SoftSolver::Body> bodies = solver.bodies();
   state.moving.resize(scene.bodies.size());
   for (std::size_t i = 0; i < scene.bodies.size(); ++i)

@@ -75,7 +75,7 @@ struct State {
   SolverType solver_type = SolverType::Auto;  ///< what `solver` is
   // scratch
   std::vector<std::pair<int, int>> links;
-  std::vector<std::uint8_t> movable, may_sleep, row_active, row_contact;
+  std::vector<std::uint8_t> movable, may_sleep, row_active;
   std::vector<int> row_manifold;
   std::vector<std::uint8_t> moving;  // soft step: movable and awake
   SubstepJoints substep_joints;
