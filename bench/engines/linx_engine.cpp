@@ -154,16 +154,21 @@ std::vector<Variant> linxVariants(const Scene& scene) {
     out.push_back(variant("soft step, 4 substeps", soft, false));
     return out;
   }
-  // Mechanisms: the default, then with position projection, which removes the joint drift that
-  // a velocity-level step leaves (docs/architecture.md), and with substeps for stiff chains.
-  out.push_back(variant("default: auto (exact, ERP 0.2)", defaults, true));
-  linx::SolverSettings projected = defaults;
-  projected.type = linx::SolverType::Exact;
-  projected.projection = true;
-  out.push_back(variant("exact + projection", projected, false));
-  linx::SolverSettings substepped = projected;
+  // Mechanisms: the default (exact, then the joints' post-stabilization), without the
+  // post-stabilization (error reduction alone), with more of its iterations, and with substeps
+  // for stiff chains.
+  out.push_back(variant("default: auto (exact, post-stabilization " +
+                            std::to_string(defaults.post_stabilization) + " it)",
+                        defaults, true));
+  linx::SolverSettings erp_only = defaults;
+  erp_only.post_stabilization = 0;
+  out.push_back(variant("exact, ERP 0.2 only", erp_only, false));
+  linx::SolverSettings more = defaults;
+  more.post_stabilization = 4;
+  out.push_back(variant("post-stabilization 4 it", more, false));
+  linx::SolverSettings substepped = defaults;
   substepped.substeps = 4;
-  out.push_back(variant("exact + projection, 4 substeps", substepped, false));
+  out.push_back(variant("default, 4 substeps", substepped, false));
   return out;
 }
 

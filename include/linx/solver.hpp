@@ -25,7 +25,10 @@ struct SolverSettings {
   /// Each step split into this many assemble-solve-integrate passes; with type Soft, the
   /// substeps of the soft step (the rows are prepared once per step).
   int substeps = 1;
-  bool projection = false;        ///< post-stabilization: pull joint errors back after each step
+  /// Back-solves per step that remove the joints' position errors with the factorization of the
+  /// step's own solve (exact islands and the soft step's joints; docs/solver.md); 0 turns it off.
+  int post_stabilization = 2;
+  bool projection = false;        ///< Newton projection: pull joint errors back after each step
   int projection_iterations = 3;  ///< Newton iterations of the projection
   double projection_tolerance = 1e-12;  ///< stop projecting below this error (m or rad)
 };

@@ -40,4 +40,12 @@ void integratePosition(Body& body, double h) {
   body.setPose(pose);
 }
 
+void displace(Body& body, const Vec3& dx, const Vec3& dtheta) {
+  if (body.isStatic()) return;
+  Pose pose = body.pose();
+  pose.position += dx;
+  pose.orientation = math::integrate(pose.orientation, dtheta, 1.0);
+  body.setPose(pose);
+}
+
 }  // namespace linx::dynamics

@@ -15,6 +15,9 @@ void integrateVelocity(Body& body, const Vec3& gravity, double h);
 /// x+ = x + h v+, q+ = exp(h w+) q (exact exponential map, normalized).
 void integratePosition(Body& body, double h);
 
+/// x += dx, q = exp(dtheta) q: a displacement without a velocity (post-stabilization).
+void displace(Body& body, const Vec3& dx, const Vec3& dtheta);
+
 /// The body-frame angular velocity after a torque-free implicit midpoint step of Euler's equations
 /// I dw/dt = (I w) x w. Exposed for tests.
 Vec3 gyroscopicStep(const Mat3& inertia, const Vec3& w_body, double h);

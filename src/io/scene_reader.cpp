@@ -406,8 +406,9 @@ class Reader {
   // --- Sections --------------------------------------------------------------------------------
 
   SolverSettings solver(const Node& n) const {
-    allowOnly(n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
-                  "projection", "projection_iterations", "projection_tolerance"});
+    allowOnly(
+        n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
+            "post_stabilization", "projection", "projection_iterations", "projection_tolerance"});
     SolverSettings s;
     if (auto t = get(n, "type")) {
       const std::string type = string(*t);
@@ -437,6 +438,7 @@ class Reader {
       }
     }
     if (auto v = get(n, "substeps")) s.substeps = integer(*v, 1);
+    if (auto v = get(n, "post_stabilization")) s.post_stabilization = integer(*v, 0);
     if (auto v = get(n, "projection")) s.projection = boolean(*v);
     if (auto v = get(n, "projection_iterations")) s.projection_iterations = integer(*v, 1);
     if (auto v = get(n, "projection_tolerance")) s.projection_tolerance = nonNegative(*v);

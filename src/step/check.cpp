@@ -79,10 +79,12 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
                   : fmt::format("bodies[{}] ({}) has the most kinetic energy, {:.3g} J", fastest,
                                 bodies[static_cast<std::size_t>(fastest)].name(), most);
   throw EnergyGrowth(
-      fmt::format("the steps made {:.3g} J of energy while nothing drove the world (bound {:.3g} "
-                  "J: faults.kinetic_fraction of the largest kinetic energy plus the allowance for "
-                  "position correction) after step {} (t = {} s); {}: the solve is unstable",
-                  rise, bound, step, time, body),
+      fmt::format(
+          "the steps made {:.3g} J of energy while nothing drove the world (bound {:.3g} "
+          "J: faults.kinetic_fraction of the largest kinetic energy plus the allowance for "
+          "position correction) after step {} (t = {} s); {}: the solve is unstable (a smaller "
+          "timestep or more solver.substeps help; docs/solver.md)",
+          rise, bound, step, time, body),
       fastest, step, time, rise, bound);
 }
 

@@ -4,7 +4,6 @@
 #include "parallel/parallel_for.hpp"
 #include "solver/soft_solver.hpp"
 #include "step/assembly.hpp"
-#include "step/projection.hpp"
 #include "step/substep_joints.hpp"
 
 #include <algorithm>
@@ -54,12 +53,19 @@ void collide(const Scene& scene, State& state, double h, const ContactSettings& 
 
 /// prepare: the joints' rows, then three rows per contact point, each with its warm start.
 /// `h_joints` is the length the joints' rows act over (a motor's bound is h F), `h` the step's;
-/// `bounce`: restitution as the normal rows' target (the soft step applies it after its substeps).
-void prepareRows(const Scene& scene, State& state, double h_joints, double h, bool bounce) {
+/// `bounce`: restitution as the normal rows' target (the soft step applies it after its substeps);
+/// `curvature`: with post-stabilization on, the joints' rows aim at their manifold to second order
+/// (step/stabilization; the soft step's joints do so in each substep).
+void prepareRows(const Scene& scene, State& state, double h_joints, double h, bool bounce,
+                 bool curvature) {
   const SolverSettings& solver = scene.settings.solver;
   Rows& r = state.rows;
   assembleRows(scene.joints, scene.bodies, solver, h_joints, r.rows);
   r.joint_rows = r.rows.size();
+  if (curvature && solver.post_stabilization > 0) {
+    state.stabilization.beginStep(scene.bodies);
+    state.stabilization.addCurvature(scene.bodies, r.rows, true);
+  }
   r.lambda.assign(r.joint_rows, 0.0);
   if (solver.warm_start) state.joint_warm.load(r.rows, r.lambda);
   state.contact.appendRows(scene.bodies, h, r.rows, r.lambda, solver.warm_start, scene.threads,
@@ -104,6 +110,12 @@ void gatherSolverBodies(const Scene& scene, State& state) {
   });
 }
 
+/// The island of a row's movable end, -1 for none.
+int islandOfRow(const State& state, const Row& r) {
+  const int a = r.body_a >= 0 ? state.islands.islandOf(r.body_a) : -1;
+  return a >= 0 ? a : r.body_b >= 0 ? state.islands.islandOf(r.body_b) : -1;
+}
+
 SolverReport solve(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake,
                    double h) {
   gatherSolverBodies(scene, state);
@@ -136,10 +148,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   std::vector<std::uint8_t>& active = state.row_active;
   active.resize(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    const int a = rows[k].body_a >= 0 ? state.islands.islandOf(rows[k].body_a) : -1;
-    const int island = a >= 0                ? a
-                       : rows[k].body_b >= 0 ? state.islands.islandOf(rows[k].body_b)
-                                             : -1;
+    const int island = islandOfRow(state, rows[k]);
     state.island_work.row_island[k] = island;
     active[k] = island >= 0 &&
                 (island_awake.empty() || island_awake[static_cast<std::size_t>(island)] != 0);
@@ -193,7 +202,8 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
       bodies[i].v = scene.bodies[i].linearVelocity();
       bodies[i].w = scene.bodies[i].angularVelocity();
     });
-    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm);
+    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm,
+                   state.stabilization, true);
     solver.warmStart();
     joints.warmStart(bodies);
     solver.sweep(true);
@@ -205,7 +215,8 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     solver.move(h);
     solver.sweep(false);
     joints.store(state.joint_warm);
-    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm);
+    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm,
+                   state.stabilization, false);
     if (!joints.empty()) joint_report = joints.solve(bodies, false, settings, h, scene.threads);
     solver.accumulate();
     joints.store(state.joint_warm);
@@ -252,14 +263,21 @@ void integratePositions(const Scene& scene, const State& state, double h) {
   });
 }
 
-/// project: with `projection` on, Newton iterations pull the joints' position errors back;
-/// sleeping bodies are held where they are.
-void project(const Scene& scene, State& state) {
-  if (!scene.settings.solver.projection) return;
-  std::vector<std::uint8_t>& frozen = state.may_sleep;  // scratch until the sleep stage
-  frozen.resize(scene.bodies.size());
-  for (std::size_t i = 0; i < scene.bodies.size(); ++i) frozen[i] = !awake(state, i);
-  projectPositions(scene.joints, scene.bodies, scene.settings.solver, frozen);
+/// stabilize: Newton iterations remove the joints' position errors (step/stabilization), as many as
+/// `post_stabilization` (or `projection_iterations` with `projection` on); sleeping bodies are held
+/// where they are.
+void stabilize(const Scene& scene, State& state) {
+  const SolverSettings& settings = scene.settings.solver;
+  const int iterations = settings.projection
+                             ? std::max(settings.post_stabilization, settings.projection_iterations)
+                             : settings.post_stabilization;
+  if (iterations > 0 && !scene.joints.empty()) {
+    std::vector<std::uint8_t>& frozen = state.may_sleep;  // scratch until the sleep stage
+    frozen.resize(scene.bodies.size());
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) frozen[i] = !awake(state, i);
+    state.stabilization.run(scene.joints, scene.bodies, settings, iterations, frozen);
+  }
+  state.stabilization.endStep(scene.bodies);
 }
 
 /// track: each joint follows its history (a hinge counts turns).
@@ -295,12 +313,12 @@ SolverReport pass(const Scene& scene, State& state, double h) {
   wakeDisturbed(scene, state);
   integrateVelocities(scene, state, h);
   collide(scene, state, h, scene.settings.contact);
-  prepareRows(scene, state, h, h, true);
+  prepareRows(scene, state, h, h, true, true);
   const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, h);
   const SolverReport report = solve(scene, state, island_awake, h);
   storeImpulses(scene, state, false);
   integratePositions(scene, state, h);
-  project(scene, state);
+  stabilize(scene, state);
   trackJoints(scene);
   sleep(scene, state, h);
   return report;
@@ -313,11 +331,12 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   ContactSettings contacts = scene.settings.contact;
   contacts.slop = 0.0;
   collide(scene, state, dt, contacts);
-  prepareRows(scene, state, dt / n, dt, false);
+  prepareRows(scene, state, dt / n, dt, false, false);
   const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, 0.0);
+  if (scene.settings.solver.post_stabilization > 0) state.stabilization.beginStep(scene.bodies);
   const SolverReport report = substeps(scene, state, island_awake, dt);
   storeImpulses(scene, state, true);
-  project(scene, state);
+  stabilize(scene, state);
   trackJoints(scene);
   sleep(scene, state, dt);
   return report;

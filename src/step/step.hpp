@@ -13,13 +13,14 @@
 //                                                    step/island_solver, solver/
 //   store       impulses kept for the next pass's warm start and the contacts() report
 //   positions   x += h v+, q = exp(h w+) q, for awake bodies                dynamics/integrator
-//   project     optional post-stabilization of the joints' position errors  step/projection
+//   stabilize   Newton iterations remove the joints' position errors; the velocities follow
+//               the step's part of the correction                           step/stabilization
 //   track       joints follow their history (a hinge counts turns)
 //   sleep       islands resting on contacts for long enough fall asleep     step/sleep
 //
 // With solver type Soft, World::step() runs softStep instead: wake, collide, prepare and islands
 // once, then `substeps` (velocities, warm start, soft sweep, positions, relax per substep;
-// solver/soft_solver), restitution, store, project, track and sleep.
+// solver/soft_solver), restitution, store, stabilize, track and sleep.
 //
 // After the passes World::step() runs `check` (step/check): a non-finite state, or energy made
 // while nothing drives the world, stops the run.
@@ -38,6 +39,7 @@
 #include "step/islands.hpp"
 #include "step/joint_warm_start.hpp"
 #include "step/sleep.hpp"
+#include "step/stabilization.hpp"
 #include "step/substep_joints.hpp"
 
 #include <cstdint>
@@ -79,6 +81,7 @@ struct State {
   std::vector<int> row_manifold;
   std::vector<std::uint8_t> moving;  // soft step: movable and awake
   SubstepJoints substep_joints;
+  PostStabilization stabilization;
   solver::SoftSolver soft;
   std::vector<solver::SoftSolver::Bounce> bounces;
   std::vector<int> neighbours;
@@ -90,7 +93,7 @@ SolverReport pass(const Scene& scene, State& state, double h);
 
 /// The soft step of length dt (solver type Soft): wake, collide, prepare, islands once, then
 /// `substeps` substeps of (velocities, warm start, soft sweep, positions, relax), then store,
-/// project, track and sleep.
+/// stabilize, track and sleep.
 SolverReport softStep(const Scene& scene, State& state, double dt);
 
 /// Wakes body `index` (unless static) and the bodies it touched in the last pass: if it moves

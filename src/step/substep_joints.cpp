@@ -9,7 +9,8 @@ namespace linx::step {
 
 void SubstepJoints::prepare(std::span<const std::unique_ptr<Joint>> joints,
                             std::span<const Body> bodies, const SolverSettings& settings, double h,
-                            std::span<const std::uint8_t> moving, JointWarmStart& warm) {
+                            std::span<const std::uint8_t> moving, JointWarmStart& warm,
+                            PostStabilization& post, bool start) {
   assembleRows(joints, bodies, settings, h, all_);
   rows_.clear();
   const auto moves = [&](int body) {
@@ -17,6 +18,7 @@ void SubstepJoints::prepare(std::span<const std::unique_ptr<Joint>> joints,
   };
   for (const Row& r : all_)
     if (moves(r.body_a) || moves(r.body_b)) rows_.push_back(r);
+  if (settings.post_stabilization > 0) post.addCurvature(bodies, rows_, start);
   lambda_.resize(rows_.size());
   warm.load(rows_, lambda_);
 }

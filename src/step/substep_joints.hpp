@@ -16,6 +16,7 @@
 #include "solver/exact_solver.hpp"
 #include "solver/soft_solver.hpp"
 #include "step/joint_warm_start.hpp"
+#include "step/stabilization.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -28,9 +29,12 @@ class SubstepJoints {
  public:
   /// Assembles the joints' rows at the bodies' current poses for a substep h, keeps the rows that
   /// move a body flagged in `moving`, and loads their impulses from `warm` (the last substep's).
+  /// With post-stabilization on, the rows aim at their manifold to second order: they take their
+  /// curvature along the substep (PostStabilization::addCurvature); `start`: the substep's first
+  /// prepare (before the positions move), whose rows the next substep measures its curvature from.
   void prepare(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                const SolverSettings& settings, double h, std::span<const std::uint8_t> moving,
-               JointWarmStart& warm);
+               JointWarmStart& warm, PostStabilization& post, bool start);
   bool empty() const { return rows_.empty(); }
   /// Applies the impulses to the velocities.
   void warmStart(std::span<solver::SoftSolver::Body> bodies) const;
