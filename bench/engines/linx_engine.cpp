@@ -164,8 +164,8 @@ std::vector<Variant> linxVariants(const Scene& scene) {
   erp_only.post_stabilization = 0;
   out.push_back(variant("exact, ERP 0.2 only", erp_only, false));
   linx::SolverSettings more = defaults;
-  more.post_stabilization = 4;
-  out.push_back(variant("post-stabilization 4 it", more, false));
+  more.post_stabilization = 8;
+  out.push_back(variant("post-stabilization 8 it", more, false));
   linx::SolverSettings substepped = defaults;
   substepped.substeps = 4;
   out.push_back(variant("default, 4 substeps", substepped, false));

@@ -27,7 +27,7 @@ struct SolverSettings {
   int substeps = 1;
   /// Back-solves per step that remove the joints' position errors with the factorization of the
   /// step's own solve (exact islands and the soft step's joints; docs/solver.md); 0 turns it off.
-  int post_stabilization = 2;
+  int post_stabilization = 4;
   bool projection = false;        ///< Newton projection: pull joint errors back after each step
   int projection_iterations = 3;  ///< Newton iterations of the projection
   double projection_tolerance = 1e-12;  ///< stop projecting below this error (m or rad)

@@ -235,6 +235,7 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
   SolverReport report;
   const std::size_t n = p.rows.size();
   report.rows = int(n);
+  factored_ = false;
   if (n == 0) return report;
   sys_.build(p);
   tree_ = tree_factor_.analyse(p);
@@ -363,7 +364,33 @@ SolverReport ExactSolver::solve(Problem& p, const SolverSettings& settings) {
   for (std::size_t k = 0; k < n; ++k)
     if (p.lambda[k] != 0.0) sys_.apply(p.rows[k], k, p.lambda[k], p.bodies);
   report.residual = sys_.residual(p);
+  factored_ = std::find(state_.begin(), state_.end(), State::Free) != state_.end();
   return report;
+}
+
+bool ExactSolver::backSolve(std::span<double> x) {
+  if (!factored_ || x.size() != state_.size()) return false;
+  if (tree_) {
+    tree_factor_.solve(x);
+    return true;
+  }
+  // The dense path lists the free rows in free_index_; the sparse path maps each row to its free
+  // index (-1 for a held row).
+  if (dense_) {
+    const int nf = int(free_index_.size());
+    Eigen::VectorXd z(nf);
+    for (int i = 0; i < nf; ++i) z[i] = x[std::size_t(free_index_[std::size_t(i)])];
+    solveLdlt(dense_factor_.data(), nf, z.data());
+    std::fill(x.begin(), x.end(), 0.0);
+    for (int i = 0; i < nf; ++i) x[std::size_t(free_index_[std::size_t(i)])] = z[i];
+    return true;
+  }
+  Eigen::VectorXd z(ldlt_.rows());
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (free_index_[k] >= 0) z[free_index_[k]] = x[k];
+  z = ldlt_.solve(z);
+  for (std::size_t k = 0; k < x.size(); ++k) x[k] = free_index_[k] >= 0 ? z[free_index_[k]] : 0.0;
+  return true;
 }
 
 }  // namespace linx::solver

@@ -25,6 +25,11 @@ class ExactSolver final : public ConstraintSolver {
   std::unique_ptr<ConstraintSolver> another() const override {
     return std::make_unique<ExactSolver>();
   }
+  /// Overwrites x (one entry per row of the last solve) with A_FF^-1 x on the rows that were free
+  /// at the end of that solve, by the factorization it made (back-substitution only); the other
+  /// entries become 0. Returns false, x untouched, when the last solve kept no factorization (it
+  /// fell back to PGS, or no row was free).
+  bool backSolve(std::span<double> x);
 
  private:
   enum class State : unsigned char { Free, Lower, Upper };
@@ -49,6 +54,7 @@ class ExactSolver final : public ConstraintSolver {
   std::vector<double> guess_;  // the initial impulses of the current solve
   bool tree_ = false;          // this solve goes through tree_factor_
   bool dense_ = false;         // this solve factors A dense (a small loop)
+  bool factored_ = false;      // the factorization matches the last solve's free rows
   Eigen::MatrixXd dense_a_, dense_ff_, dense_factor_;
   TreeFactorization tree_factor_;
   std::vector<std::uint8_t> free_;

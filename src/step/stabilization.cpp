@@ -71,7 +71,11 @@ double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
   double err = 0.0;
   for (Row& r : rows_) {
     if (r.kind == RowKind::Motor) {
-      r = Row{.Ja = r.Ja, .Jb = r.Jb, .cfm = r.cfm, .key = r.key, .body_a = r.body_a,
+      r = Row{.Ja = r.Ja,
+              .Jb = r.Jb,
+              .cfm = r.cfm,
+              .key = r.key,
+              .body_a = r.body_a,
               .body_b = r.body_b};
     }
     err = std::max(err, std::abs(r.phi));
@@ -81,16 +85,55 @@ double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
   return err;
 }
 
+template <typename Still>
+void PostStabilization::displace(std::span<Body> bodies, std::span<const double> dl,
+                                 const Still& still) {
+  // dx = M^-1 J^T dl with the factored rows' J and the bodies' inverse masses of that solve.
+  dx_.assign(bodies.size(), Vec6::Zero());
+  for (std::size_t k = 0; k < factored_.size(); ++k) {
+    if (dl[k] == 0.0) continue;
+    const Row& r = factored_[k];
+    if (r.body_a >= 0) dx_[static_cast<std::size_t>(r.body_a)] += dl[k] * r.Ja;
+    if (r.body_b >= 0) dx_[static_cast<std::size_t>(r.body_b)] += dl[k] * r.Jb;
+  }
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (still(i) || dx_[i].isZero(0)) continue;
+    const solver::SolverBody& b = bodies_[i];
+    dynamics::displace(bodies[i], b.inv_mass * dx_[i].head<3>(), b.inv_inertia * dx_[i].tail<3>());
+  }
+}
+
+bool PostStabilization::sameRows() const {
+  if (rows_.size() != factored_.size()) return false;
+  for (std::size_t k = 0; k < rows_.size(); ++k)
+    if (rows_[k].key != factored_[k].key || rows_[k].body_a != factored_[k].body_a ||
+        rows_[k].body_b != factored_[k].body_b)
+      return false;
+  return true;
+}
+
 double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
                               std::span<Body> bodies, const SolverSettings& settings,
                               int iterations, std::span<const std::uint8_t> frozen) {
   const auto still = [&](std::size_t i) {
     return bodies[i].isStatic() || (!frozen.empty() && frozen[i]);
   };
-  double err = 0.0;
+  double err = 0.0, last = 0.0;
   for (int it = 0; it < iterations; ++it) {
     err = gather(joints, bodies, settings, frozen);
     if (err <= settings.projection_tolerance) break;
+    const bool converging = it > 0 && err <= 0.01 * last;
+    last = err;
+    if (converging && sameRows()) {
+      // The last correction cut the error 100-fold or more: the bodies moved little, and the last
+      // factorization (and its J) serves the next iteration as a back-substitution.
+      lambda_.resize(rows_.size());
+      for (std::size_t k = 0; k < rows_.size(); ++k) lambda_[k] = -rows_[k].phi;
+      if (solver_.backSolve(lambda_)) {
+        displace(bodies, lambda_, still);
+        continue;
+      }
+    }
     bodies_.resize(bodies.size());
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       const Body& b = bodies[i];
@@ -101,9 +144,8 @@ double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
     lambda_.assign(rows_.size(), 0.0);
     solver::Problem p{rows_, bodies_, lambda_, 1.0};
     solver_.solve(p, settings);
-    // The solve over a unit time leaves the displacement in the velocity slots.
-    for (std::size_t i = 0; i < bodies.size(); ++i)
-      if (!still(i)) dynamics::displace(bodies[i], bodies_[i].v, bodies_[i].w);
+    factored_.swap(rows_);
+    displace(bodies, lambda_, still);
   }
   return err;
 }

@@ -7,7 +7,10 @@
 //   dx = M^-1 J^T dl,   (J M^-1 J^T) dl = -phi
 // (equality rows, limit rows that are overshot as unilateral rows, and motors held where they
 // are; not rows made soft by a cfm above the world's), solved by the exact solver: O(n) along the
-// tree for mechanisms without loops.
+// tree for mechanisms without loops. An iteration after one that cut the error 100-fold or more
+// does not factor: the bodies moved little, so the last factorization and its J serve, and the
+// iteration is a back-substitution (unless a limit came or went). Where links turn fast the
+// iterations stay Newton's.
 //
 // Projection alone would cost energy: the next step's velocity solve cuts the velocity back onto
 // the new tangent, a loss of (h w)^2 of the energy per step (a pendulum at h = 1 ms lost 2.5 % a
@@ -69,7 +72,14 @@ class PostStabilization {
   double gather(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                 const SolverSettings& settings, std::span<const std::uint8_t> frozen);
 
-  std::vector<Row> rows_, previous_;
+  /// rows_ has the same rows, in the same order, as factored_ (the last factorization's).
+  bool sameRows() const;
+  /// Moves the bodies by dx = M^-1 J^T dl, with factored_'s J and bodies_' inverse masses.
+  template <typename Still>
+  void displace(std::span<Body> bodies, std::span<const double> dl, const Still& still);
+
+  std::vector<Row> rows_, factored_, previous_;
+  std::vector<Vec6> dx_;
   std::vector<Pose> poses_;
   std::vector<double> lambda_;
   std::vector<solver::SolverBody> bodies_;
