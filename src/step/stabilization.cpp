@@ -15,12 +15,13 @@ void PostStabilization::beginStep(std::span<const Body> bodies) {
     same = p.position == poses_[i].position &&
            p.orientation.coeffs() == poses_[i].orientation.coeffs();
   }
-  if (!same)
-    previous_.clear();  // moved by hand since the last step: its normals are not the ones
-                        // the bodies moved through
+  // Moved by hand since the last step, or rows older than the last step (post-stabilization was
+  // off in between): their normals are not the ones the bodies moved through.
+  if (!same || ends_since_remembered_ != 1) previous_.clear();
 }
 
 void PostStabilization::endStep(std::span<const Body> bodies) {
+  ++ends_since_remembered_;
   poses_.resize(bodies.size());
   for (std::size_t i = 0; i < bodies.size(); ++i) poses_[i] = bodies[i].pose();
 }
@@ -50,7 +51,10 @@ void PostStabilization::addCurvature(std::span<const Body> bodies, std::span<Row
       break;
     }
   }
-  if (remember) previous_.assign(rows.begin(), rows.end());
+  if (remember) {
+    previous_.assign(rows.begin(), rows.end());
+    ends_since_remembered_ = 0;
+  }
 }
 
 double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,

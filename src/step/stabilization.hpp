@@ -54,7 +54,8 @@ class PostStabilization {
   /// step, until it blew up. Rows are matched by key; `remember`: keep these rows for the next
   /// call.
   void addCurvature(std::span<const Body> bodies, std::span<Row> rows, bool remember);
-  /// Forgets the remembered rows when a body was moved by hand since endStep.
+  /// Forgets the remembered rows unless they are the last step's and no body was moved by hand
+  /// since its endStep.
   void beginStep(std::span<const Body> bodies);
   /// Records the bodies' poses at the end of a step.
   void endStep(std::span<const Body> bodies);
@@ -81,6 +82,7 @@ class PostStabilization {
   std::vector<Row> rows_, factored_, previous_;
   std::vector<Vec6> dx_;
   std::vector<Pose> poses_;
+  int ends_since_remembered_ = 0;  // endStep calls since previous_ was remembered
   std::vector<double> lambda_;
   std::vector<solver::SolverBody> bodies_;
   solver::ExactSolver solver_;
