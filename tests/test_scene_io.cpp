@@ -90,8 +90,8 @@ TEST(SceneRead, EveryField) {
   const linx::Scene s = parse(json::parse(R"({
     "gravity": [0, -9.8, 0], "timestep": 0.002, "duration": 3.5,
     "solver": {"type": "pgs", "iterations": 40, "tolerance": 1e-8, "erp": 0.3, "cfm": 1e-6,
-               "warm_start": false, "sor": 1.3, "substeps": 4, "projection": true,
-               "projection_iterations": 5, "projection_tolerance": 1e-9},
+               "warm_start": false, "sor": 1.3, "substeps": 4, "post_stabilization": 6,
+               "projection": true, "projection_iterations": 5, "projection_tolerance": 1e-9},
     "contact": {"max_push_out": 1.5},
     "faults": {"energy": false, "kinetic_fraction": 0.25, "height": 0.5, "speed": 2},
     "bodies": [
@@ -124,6 +124,7 @@ TEST(SceneRead, EveryField) {
   EXPECT_FALSE(solver.warm_start);
   EXPECT_EQ(solver.sor, 1.3);
   EXPECT_EQ(solver.substeps, 4);
+  EXPECT_EQ(solver.post_stabilization, 6);
   EXPECT_TRUE(solver.projection);
   EXPECT_EQ(solver.projection_iterations, 5);
   EXPECT_EQ(solver.projection_tolerance, 1e-9);
@@ -465,6 +466,10 @@ TEST(SceneError, Solver) {
       {[](json& s) { s["solver"]["sor"] = 2; }, "solver.sor", "must be strictly between 0 and 2"},
       {[](json& s) { s["solver"]["sor"] = 0; }, "solver.sor", "must be strictly between 0 and 2"},
       {[](json& s) { s["solver"]["substeps"] = 0; }, "solver.substeps", "must be an integer >= 1"},
+      {[](json& s) { s["solver"]["post_stabilization"] = -1; }, "solver.post_stabilization",
+       "must be an integer >= 0"},
+      {[](json& s) { s["solver"]["post_stabilization"] = 1.5; }, "solver.post_stabilization",
+       "must be an integer >= 0"},
       {[](json& s) { s["solver"]["projection"] = 1; }, "solver.projection",
        "expected true or false, got a number"},
       {[](json& s) { s["solver"]["projection_iterations"] = 0; }, "solver.projection_iterations",
