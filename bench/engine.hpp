@@ -37,7 +37,7 @@ class Engine {
 
 /// One engine with one set of solver settings, as a row of the table.
 struct Variant {
-  std::string engine;    ///< "linx", "ODE", "Bullet", "MuJoCo"
+  std::string engine;    ///< "linx", "ODE", "Bullet", "MuJoCo", "DART"
   std::string settings;  ///< "QuickStep, 20 iterations", "btMultiBody", ...
   /// Builds the scene; throws Unsupported when this variant does not run it.
   std::function<std::unique_ptr<Engine>(const Scene&)> make;
@@ -54,5 +54,6 @@ std::vector<Variant> linxVariants(const Scene& scene);
 std::vector<Variant> odeVariants(const Scene& scene);
 std::vector<Variant> bulletVariants(const Scene& scene);
 std::vector<Variant> mujocoVariants(const Scene& scene);
+std::vector<Variant> dartVariants(const Scene& scene);
 
 }  // namespace bench

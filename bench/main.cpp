@@ -1,5 +1,5 @@
 // linx-bench: the scenes of issue 4 in linx and, where they were found at configure time, in ODE,
-// Bullet and MuJoCo, one after another in one process; prints one table and the targets.
+// Bullet, MuJoCo and DART, one after another in one process; prints one table and the targets.
 // See docs/performance.md.
 #include "engine.hpp"
 #include "report.hpp"
@@ -54,7 +54,8 @@ std::string lower(std::string s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"linx-bench: linx against ODE, Bullet and MuJoCo on the same scenes", "linx-bench"};
+  CLI::App app{"linx-bench: linx against ODE, Bullet, MuJoCo and DART on the same scenes",
+               "linx-bench"};
   std::vector<std::string> scene_names, engine_names;
   bool quick = false;
   int max_bodies = 0;
@@ -66,8 +67,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(
           {"chain", "heavy-chain", "pyramid", "spheres", "slider-crank", "ragdolls"}));
   app.add_option("--engine", engine_names,
-                 "Engines to run (default every one built): linx, ode, bullet, mujoco")
-      ->check(CLI::IsMember({"linx", "ode", "bullet", "mujoco"}));
+                 "Engines to run (default every one built): linx, ode, bullet, mujoco, dart")
+      ->check(CLI::IsMember({"linx", "ode", "bullet", "mujoco", "dart"}));
   app.add_flag("--quick", quick,
                "Smallest size of each scene and 20 steps: a smoke test, not a measurement");
   app.add_option("--max-bodies", max_bodies, "Skip scene sizes with more bodies than this")
@@ -92,7 +93,8 @@ int main(int argc, char** argv) {
     bench::Scene scene = entry.make();
     if (quick) scene.steps = std::min(scene.steps, 20);
     std::vector<bench::Variant> variants = bench::linxVariants(scene);
-    for (auto* more : {&bench::odeVariants, &bench::bulletVariants, &bench::mujocoVariants}) {
+    for (auto* more : {&bench::odeVariants, &bench::bulletVariants, &bench::mujocoVariants,
+                       &bench::dartVariants}) {
       for (bench::Variant& v : more(scene)) variants.push_back(std::move(v));
     }
     for (const bench::Variant& v : variants) {

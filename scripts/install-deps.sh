@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages linx needs to build and test, only those missing.
-# Usage: scripts/install-deps.sh [--peers]   (--peers adds ODE, Bullet and MuJoCo for bench/)
+# Usage: scripts/install-deps.sh [--peers]   (--peers adds ODE, Bullet, MuJoCo and DART for bench/)
 # Pictures (docs/visualization.md): povray renders frames, ffmpeg makes videos, gnuplot plots,
 # cpp-httplib serves the viewer, whose page is bundled by npm (three.js) at build time and tested
 # in Chromium. Node.js and npm come from Debian unless the machine already has them.
@@ -11,7 +11,7 @@ packages=(build-essential cmake ninja-build pkg-config libeigen3-dev nlohmann-js
           libtinyobjloader-dev
           povray ffmpeg gnuplot-nox fonts-dejavu-core libpng-dev libcpp-httplib-dev chromium)
 if ! command -v npm >/dev/null || ! command -v node >/dev/null; then packages+=(nodejs npm); fi
-if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev); fi
+if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev libdart-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

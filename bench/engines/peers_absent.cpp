@@ -19,5 +19,10 @@ std::vector<Variant> mujocoVariants(const Scene&) {
   return {};
 }
 #endif
+#ifndef LINX_BENCH_HAVE_DART
+std::vector<Variant> dartVariants(const Scene&) {
+  return {};
+}
+#endif
 
 }  // namespace bench
