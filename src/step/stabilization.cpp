@@ -8,6 +8,12 @@
 
 namespace linx::step {
 
+namespace {
+/// The largest error (m or rad) whose correction leaves the factorization good for the next
+/// iterations: the bodies then turn by 1e-3 rad or so, and J changes by as little.
+constexpr double kSmallCorrection = 1e-3;
+}  // namespace
+
 void PostStabilization::beginStep(std::span<const Body> bodies) {
   bool same = poses_.size() == bodies.size();
   for (std::size_t i = 0; same && i < bodies.size(); ++i) {
@@ -67,21 +73,22 @@ double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
   // Rows softer than the world's (a spring-damper made of cfm) keep their stretch: it is physics,
   // not drift. A motor's row holds its coordinate where the velocity step left it: the correction
   // must not turn a driven hinge (a motor at 2 rad/s for 2 s otherwise ends 5e-6 rad ahead).
+  // Limits are left to the velocity solve (see the header).
   std::erase_if(rows_, [&](const Row& r) {
-    const bool positional = r.kind == RowKind::Bilateral || r.kind == RowKind::Motor ||
-                            (r.kind == RowKind::Unilateral && r.phi < 0.0);
+    const bool positional = r.kind == RowKind::Bilateral || r.kind == RowKind::Motor;
     return !positional || r.cfm > settings.cfm || (fixed(r.body_a) && fixed(r.body_b));
   });
   double err = 0.0;
   for (Row& r : rows_) {
-    if (r.kind == RowKind::Motor) {
-      r = Row{.Ja = r.Ja,
-              .Jb = r.Jb,
-              .cfm = r.cfm,
-              .key = r.key,
-              .body_a = r.body_a,
-              .body_b = r.body_b};
-    }
+    // Every kept row is an equality, a motor's holding its coordinate (phi 0): one factorization,
+    // no active set.
+    r = Row{.Ja = r.Ja,
+            .Jb = r.Jb,
+            .phi = r.kind == RowKind::Motor ? 0.0 : r.phi,
+            .cfm = r.cfm,
+            .key = r.key,
+            .body_a = r.body_a,
+            .body_b = r.body_b};
     err = std::max(err, std::abs(r.phi));
     r.speed = 0.0;
     r.erp = 1.0;
@@ -107,13 +114,17 @@ void PostStabilization::displace(std::span<Body> bodies, std::span<const double>
   }
 }
 
-bool PostStabilization::sameRows() const {
-  if (rows_.size() != factored_.size()) return false;
-  for (std::size_t k = 0; k < rows_.size(); ++k)
-    if (rows_[k].key != factored_[k].key || rows_[k].body_a != factored_[k].body_a ||
-        rows_[k].body_b != factored_[k].body_b)
-      return false;
-  return true;
+bool PostStabilization::errorsOnFactoredRows() {
+  // Both lists run in assembly order. A row of the factorization that is not among the current
+  // ones is held (0); a current row the factorization lacks needs a new factorization.
+  lambda_.assign(factored_.size(), 0.0);
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < factored_.size() && j < rows_.size(); ++k) {
+    if (factored_[k].key != rows_[j].key) continue;
+    lambda_[k] = -rows_[j].phi;
+    ++j;
+  }
+  return j == rows_.size();
 }
 
 double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
@@ -122,17 +133,15 @@ double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
   const auto still = [&](std::size_t i) {
     return bodies[i].isStatic() || (!frozen.empty() && frozen[i]);
   };
-  double err = 0.0, last = 0.0;
+  double err = 0.0, last = 0.0, factored_err = 0.0;
   for (int it = 0; it < iterations; ++it) {
     err = gather(joints, bodies, settings, frozen);
     if (err <= settings.projection_tolerance) break;
-    const bool converging = it > 0 && err <= 0.01 * last;
+    const bool converging = it > 0 && err <= 0.01 * last && factored_err <= kSmallCorrection;
     last = err;
-    if (converging && sameRows()) {
-      // The last correction cut the error 100-fold or more: the bodies moved little, and the last
-      // factorization (and its J) serves the next iteration as a back-substitution.
-      lambda_.resize(rows_.size());
-      for (std::size_t k = 0; k < rows_.size(); ++k) lambda_[k] = -rows_[k].phi;
+    if (converging && errorsOnFactoredRows()) {
+      // The last correction cut the error 100-fold or more, and the bodies moved little since the
+      // last factorization: it (and its J) serves this iteration as a back-substitution.
       if (solver_.backSolve(lambda_)) {
         displace(bodies, lambda_, still);
         continue;
@@ -149,6 +158,7 @@ double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
     solver::Problem p{rows_, bodies_, lambda_, 1.0};
     solver_.solve(p, settings);
     factored_.swap(rows_);
+    factored_err = err;
     displace(bodies, lambda_, still);
   }
   return err;

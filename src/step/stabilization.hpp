@@ -5,12 +5,14 @@
 // assembles the joints' rows at the current poses and moves the bodies by the displacement of
 // least kinetic metric that closes the error to first order,
 //   dx = M^-1 J^T dl,   (J M^-1 J^T) dl = -phi
-// (equality rows, limit rows that are overshot as unilateral rows, and motors held where they
-// are; not rows made soft by a cfm above the world's), solved by the exact solver: O(n) along the
-// tree for mechanisms without loops. An iteration after one that cut the error 100-fold or more
-// does not factor: the bodies moved little, so the last factorization and its J serve, and the
-// iteration is a back-substitution (unless a limit came or went). Where links turn fast the
-// iterations stay Newton's.
+// (equality rows, and motors held where they are; not rows made soft by a cfm above the world's),
+// solved by the exact solver: O(n) along the tree for mechanisms without loops. An iteration after
+// one that cut the error 100-fold or more, with the last factorization made for an error below
+// 1e-3, does not factor: the bodies moved little since, so that factorization and its J serve, and
+// the iteration is a back-substitution. Where links turn fast, or contacts pushed the bodies apart
+// (ragdolls: 8 cm), the iterations stay Newton's. Limits are left to the velocity solve: brought
+// onto their bounds here they came and went from one iteration to the next, and the iterations did
+// not converge.
 //
 // Projection alone would cost energy: the next step's velocity solve cuts the velocity back onto
 // the new tangent, a loss of (h w)^2 of the energy per step (a pendulum at h = 1 ms lost 2.5 % a
@@ -73,8 +75,9 @@ class PostStabilization {
   double gather(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                 const SolverSettings& settings, std::span<const std::uint8_t> frozen);
 
-  /// rows_ has the same rows, in the same order, as factored_ (the last factorization's).
-  bool sameRows() const;
+  /// lambda_ = -phi of rows_ laid out on factored_'s rows (the last factorization's), 0 on those
+  /// rows_ lacks. False when rows_ has a row factored_ lacks (a body fell asleep or woke).
+  bool errorsOnFactoredRows();
   /// Moves the bodies by dx = M^-1 J^T dl, with factored_'s J and bodies_' inverse masses.
   template <typename Still>
   void displace(std::span<Body> bodies, std::span<const double> dl, const Still& still);
