@@ -47,6 +47,7 @@
 //   loop constraints) and its cost grows as the cube of the group's rows: groups estimated above
 //   kDenseRowLimit rows are refused, as ODE's dWorldStep is.
 #include "engine.hpp"
+#include "scene_tree.hpp"
 
 #include <dart/collision/CollisionFilter.hpp>
 #include <dart/collision/CollisionResult.hpp>
@@ -88,7 +89,6 @@ namespace {
 namespace dd = dart::dynamics;
 namespace dc = dart::constraint;
 
-constexpr int kWorld = -1;
 // A joint coordinate (m, rad) or velocity (m/s, rad/s) beyond this is a blow-up.
 constexpr double kDiverged = 1e8;
 // The ground: a box, its top face the plane (DART 6.12's detectors have no usable plane).
@@ -104,10 +104,6 @@ constexpr long kDenseRowLimit = 2000;
 // pairs of up to 4 points, 3 rows each (normal and two friction directions).
 constexpr long kContactRowsPerShapedBody = 24;
 
-bool parallel(const Vec3& a, const Vec3& b) {
-  return a.cross(b).norm() <= 1e-9 * a.norm() * b.norm();
-}
-
 Eigen::Isometry3d isometry(const Vec3& position, const Quat& orientation) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = orientation.normalized().toRotationMatrix();
@@ -115,130 +111,8 @@ Eigen::Isometry3d isometry(const Vec3& position, const Quat& orientation) {
   return t;
 }
 
-/// The scene as kinematic trees. Node indices are scene body indices; kWorld is the world.
-struct Tree {
-  std::vector<int> parent;      ///< kWorld for roots (and static bodies)
-  std::vector<int> joint;       ///< scene joint of the edge to the parent; -1: none
-  std::vector<bool> flipped;    ///< the edge runs from body2 (parent) to body1 (child)
-  std::vector<bool> free_root;  ///< dynamic root without a joint: gets a FreeJoint
-  std::vector<std::vector<int>> children;
-  std::vector<int> roots;     ///< dynamic children of the world, in order
-  std::vector<int> closures;  ///< scene joints that close loops
-};
-
-/// A joint end as a tree node: the world and static bodies are the world.
-int node(const Scene& scene, int b) {
-  return b < 0 || scene.bodies[static_cast<std::size_t>(b)].is_static ? kWorld : b;
-}
-
-Tree buildTree(const Scene& scene) {
-  const int n = static_cast<int>(scene.bodies.size());
-  const auto un = static_cast<std::size_t>(n);
-  Tree t;
-  t.parent.assign(un, kWorld);
-  t.joint.assign(un, -1);
-  t.flipped.assign(un, false);
-  t.free_root.assign(un, false);
-  t.children.resize(un);
-
-  // Incidence lists (world at index n), in joint order.
-  std::vector<std::vector<int>> incident(un + 1);
-  const auto slot = [n](int v) { return static_cast<std::size_t>(v == kWorld ? n : v); };
-  for (std::size_t j = 0; j < scene.joints.size(); ++j) {
-    const Joint& jt = scene.joints[j];
-    if (jt.body1 < kWorld || jt.body1 >= n || jt.body2 < kWorld || jt.body2 >= n) {
-      throw Unsupported("a joint refers to a body that does not exist");
-    }
-    const int a = node(scene, jt.body1), b = node(scene, jt.body2);
-    if (a == b) {
-      if (a == kWorld) continue;  // between the world and static bodies: no effect
-      throw Unsupported("a joint joins body " + std::to_string(a) + " to itself");
-    }
-    incident[slot(a)].push_back(static_cast<int>(j));
-    incident[slot(b)].push_back(static_cast<int>(j));
-  }
-
-  std::vector<bool> placed(un + 1, false), used(scene.joints.size(), false);
-  std::vector<int> queue;
-  const auto search = [&](int start) {
-    queue.assign(1, start);
-    placed[slot(start)] = true;
-    for (std::size_t q = 0; q < queue.size(); ++q) {
-      const int u = queue[q];
-      for (int j : incident[slot(u)]) {
-        if (used[static_cast<std::size_t>(j)]) continue;
-        used[static_cast<std::size_t>(j)] = true;
-        const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
-        const int a = node(scene, jt.body1), b = node(scene, jt.body2);
-        const int v = a == u ? b : a;
-        if (placed[slot(v)]) {
-          t.closures.push_back(j);
-          continue;
-        }
-        placed[slot(v)] = true;
-        const auto vi = static_cast<std::size_t>(v);
-        t.parent[vi] = u;
-        t.joint[vi] = j;
-        t.flipped[vi] = v == a;  // the child is body1
-        if (u == kWorld) {
-          t.roots.push_back(v);
-        } else {
-          t.children[static_cast<std::size_t>(u)].push_back(v);
-        }
-        queue.push_back(v);
-      }
-    }
-  };
-  search(kWorld);
-  for (int i = 0; i < n; ++i) {
-    if (scene.bodies[static_cast<std::size_t>(i)].is_static || placed[slot(i)]) continue;
-    t.free_root[static_cast<std::size_t>(i)] = true;
-    t.roots.push_back(i);
-    search(i);
-  }
-  std::sort(t.closures.begin(), t.closures.end());
-  return t;
-}
-
-/// Whether the tree paths between the two nodes keep their relative rotation about `axis` only:
-/// every joint on them is a hinge parallel to axis, a slider or a fixed joint, and no path runs
-/// through a free root.
-bool rotationKeptAbout(const Scene& scene, const Tree& t, int a, int b, const Vec3& axis) {
-  std::vector<int> up_a;
-  for (int v = a; v != kWorld; v = t.parent[static_cast<std::size_t>(v)]) up_a.push_back(v);
-  int lca = kWorld;
-  std::vector<int> path;
-  for (int v = b; v != kWorld; v = t.parent[static_cast<std::size_t>(v)]) {
-    if (std::find(up_a.begin(), up_a.end(), v) != up_a.end()) {
-      lca = v;
-      break;
-    }
-    path.push_back(v);
-  }
-  for (int v : up_a) {
-    if (v == lca) break;
-    path.push_back(v);
-  }
-  for (int v : path) {
-    const auto vi = static_cast<std::size_t>(v);
-    if (t.free_root[vi]) return false;
-    const Joint& jt = scene.joints[static_cast<std::size_t>(t.joint[vi])];
-    switch (jt.kind) {
-      case Joint::Kind::Hinge:
-        if (!parallel(jt.axis, axis)) return false;
-        break;
-      case Joint::Kind::Slider:
-      case Joint::Kind::Fixed:
-        break;
-      case Joint::Kind::Ball:
-        return false;
-    }
-  }
-  return true;
-}
-
 /// Checks what the adapter cannot build, before any DART object exists.
-void checkFeatures(const Scene& scene, const Tree& tree) {
+void checkFeatures(const Scene& scene, const SceneTree& tree) {
   for (const Body& b : scene.bodies) {
     if (b.shape.kind == Shape::Kind::Capsule) {
       throw Unsupported(
@@ -255,7 +129,7 @@ void checkFeatures(const Scene& scene, const Tree& tree) {
       case Joint::Kind::Slider:
         throw Unsupported("DART 6.12 has no prismatic loop constraint (a slider closes a loop)");
       case Joint::Kind::Hinge:
-        if (!rotationKeptAbout(scene, tree, node(scene, jt.body1), node(scene, jt.body2),
+        if (!rotationKeptAbout(scene, tree, treeNode(scene, jt.body1), treeNode(scene, jt.body2),
                                jt.axis)) {
           throw Unsupported(
               "DART 6.12 has no revolute loop constraint, and the trees do not keep the rotation "
@@ -279,7 +153,7 @@ void checkFeatures(const Scene& scene, const Tree& tree) {
 /// Dantzig's LCP is dense per constrained group: estimates the rows of the largest one (bodies of
 /// one tree or joined by a loop constraint; every dynamic body with a shape and no joint counted
 /// in one pile, since they touch each other) and refuses the scene above kDenseRowLimit.
-void checkDenseSize(const Scene& scene, const Tree& tree) {
+void checkDenseSize(const Scene& scene, const SceneTree& tree) {
   const int n = static_cast<int>(scene.bodies.size());
   std::vector<int> up(static_cast<std::size_t>(n));
   std::iota(up.begin(), up.end(), 0);
@@ -306,7 +180,7 @@ void checkDenseSize(const Scene& scene, const Tree& tree) {
   }
   for (int j : tree.closures) {
     const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
-    join(node(scene, jt.body1), node(scene, jt.body2));
+    join(treeNode(scene, jt.body1), treeNode(scene, jt.body2));
   }
   std::vector<long> rows(static_cast<std::size_t>(n), 0);
   for (int i = 0; i < n; ++i) {
@@ -316,12 +190,14 @@ void checkDenseSize(const Scene& scene, const Tree& tree) {
     }
   }
   for (const Joint& jt : scene.joints) {
-    const int a = node(scene, jt.body1) == kWorld ? node(scene, jt.body2) : node(scene, jt.body1);
+    const int a =
+        treeNode(scene, jt.body1) == kWorld ? treeNode(scene, jt.body2) : treeNode(scene, jt.body1);
     if (a != kWorld) rows[static_cast<std::size_t>(find(a))] += (jt.limits || jt.motor) ? 1 : 0;
   }
   for (int j : tree.closures) {
     const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
-    const int a = node(scene, jt.body1) == kWorld ? node(scene, jt.body2) : node(scene, jt.body1);
+    const int a =
+        treeNode(scene, jt.body1) == kWorld ? treeNode(scene, jt.body2) : treeNode(scene, jt.body1);
     if (a != kWorld)
       rows[static_cast<std::size_t>(find(a))] += jt.kind == Joint::Kind::Fixed ? 6 : 3;
   }
@@ -427,7 +303,7 @@ class DartEngine final : public Engine {
 };
 
 DartEngine::DartEngine(const Scene& scene) {
-  const Tree tree = buildTree(scene);
+  const SceneTree tree = buildSceneTree(scene, false);
   checkFeatures(scene, tree);
   checkDenseSize(scene, tree);
 
@@ -601,8 +477,8 @@ DartEngine::DartEngine(const Scene& scene) {
   const auto nodeOf = [&](int b) { return b < 0 ? nullptr : nodes_[static_cast<std::size_t>(b)]; };
   for (int j : tree.closures) {
     const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
-    dd::BodyNode* b1 = node(scene, jt.body1) == kWorld ? nullptr : nodeOf(jt.body1);
-    dd::BodyNode* b2 = node(scene, jt.body2) == kWorld ? nullptr : nodeOf(jt.body2);
+    dd::BodyNode* b1 = treeNode(scene, jt.body1) == kWorld ? nullptr : nodeOf(jt.body1);
+    dd::BodyNode* b2 = treeNode(scene, jt.body2) == kWorld ? nullptr : nodeOf(jt.body2);
     if (!b1) std::swap(b1, b2);
     std::shared_ptr<dc::ConstraintBase> c;
     if (jt.kind == Joint::Kind::Fixed) {

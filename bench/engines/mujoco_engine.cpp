@@ -51,6 +51,7 @@
 //   mj_step for the Euler integrator, but it leaves xpos/xquat at the new positions for pose()
 //   (after mj_step they would still describe the start of the step).
 #include "engine.hpp"
+#include "scene_tree.hpp"
 
 #include <mujoco/mujoco.h>
 
@@ -68,7 +69,6 @@
 namespace bench {
 namespace {
 
-constexpr int kWorld = -1;
 // Levels of nested bodies per MJCF file (tinyxml2 in Debian stops at element depth 100).
 constexpr int kLevelsPerFile = 40;
 // Distance along a loop-closing hinge's axis of its second connect point (m).
@@ -103,133 +103,6 @@ std::string bodyName(int i) {
   return name;
 }
 
-bool parallel(const Vec3& a, const Vec3& b) {
-  return a.cross(b).norm() <= 1e-9 * a.norm() * b.norm();
-}
-
-/// The scene as a kinematic tree. Node indices are scene body indices; kWorld is the world.
-struct Tree {
-  std::vector<int> parent;      ///< kWorld for roots (and static bodies)
-  std::vector<int> joint;       ///< scene joint of the edge to the parent; -1: none
-  std::vector<bool> flipped;    ///< the edge runs from body2 (parent) to body1 (child)
-  std::vector<bool> free_root;  ///< dynamic root without a joint: gets a freejoint
-  std::vector<std::vector<int>> children;
-  std::vector<int> roots;     ///< children of the world, in order
-  std::vector<int> closures;  ///< scene joints that close loops
-};
-
-/// A joint end as a tree node: the world and static bodies are the world.
-int node(const Scene& scene, int b) {
-  return b < 0 || scene.bodies[static_cast<std::size_t>(b)].is_static ? kWorld : b;
-}
-
-Tree buildTree(const Scene& scene) {
-  const int n = static_cast<int>(scene.bodies.size());
-  Tree t;
-  t.parent.assign(static_cast<std::size_t>(n), kWorld);
-  t.joint.assign(static_cast<std::size_t>(n), -1);
-  t.flipped.assign(static_cast<std::size_t>(n), false);
-  t.free_root.assign(static_cast<std::size_t>(n), false);
-  t.children.resize(static_cast<std::size_t>(n));
-
-  // Incidence lists (world at index n), in joint order.
-  std::vector<std::vector<int>> incident(static_cast<std::size_t>(n) + 1);
-  const auto slot = [n](int v) { return static_cast<std::size_t>(v == kWorld ? n : v); };
-  for (std::size_t j = 0; j < scene.joints.size(); ++j) {
-    const Joint& jt = scene.joints[j];
-    const int a = node(scene, jt.body1), b = node(scene, jt.body2);
-    if (a == b) {
-      if (a == kWorld) continue;  // between the world and static bodies: no effect
-      throw Unsupported("a joint joins body " + std::to_string(a) + " to itself");
-    }
-    incident[slot(a)].push_back(static_cast<int>(j));
-    incident[slot(b)].push_back(static_cast<int>(j));
-  }
-
-  std::vector<bool> placed(static_cast<std::size_t>(n) + 1, false),
-      used(scene.joints.size(), false);
-  std::vector<int> queue;
-  const auto search = [&](int start) {
-    queue.assign(1, start);
-    placed[slot(start)] = true;
-    for (std::size_t q = 0; q < queue.size(); ++q) {
-      const int u = queue[q];
-      for (int j : incident[slot(u)]) {
-        if (used[static_cast<std::size_t>(j)]) continue;
-        used[static_cast<std::size_t>(j)] = true;
-        const Joint& jt = scene.joints[static_cast<std::size_t>(j)];
-        const int a = node(scene, jt.body1), b = node(scene, jt.body2);
-        const int v = a == u ? b : a;
-        if (placed[slot(v)]) {
-          t.closures.push_back(j);
-          continue;
-        }
-        placed[slot(v)] = true;
-        const auto vi = static_cast<std::size_t>(v);
-        t.parent[vi] = u;
-        t.joint[vi] = j;
-        t.flipped[vi] = v == a;  // the child is body1
-        if (u == kWorld) {
-          t.roots.push_back(v);
-        } else {
-          t.children[static_cast<std::size_t>(u)].push_back(v);
-        }
-        queue.push_back(v);
-      }
-    }
-  };
-  search(kWorld);
-  for (int i = 0; i < n; ++i) {
-    const Body& b = scene.bodies[static_cast<std::size_t>(i)];
-    if (b.is_static) {
-      t.roots.push_back(i);  // jointless child of the world
-      continue;
-    }
-    if (placed[slot(i)]) continue;
-    t.free_root[static_cast<std::size_t>(i)] = true;
-    t.roots.push_back(i);
-    search(i);
-  }
-  std::sort(t.closures.begin(), t.closures.end());
-  return t;
-}
-
-/// Whether the tree path between the two nodes keeps their relative rotation about `axis` only:
-/// every joint on it is a hinge parallel to axis, a slider or a fixed joint.
-bool rotationKeptAbout(const Scene& scene, const Tree& t, int a, int b, const Vec3& axis) {
-  std::vector<int> up_a;
-  for (int v = a; v != kWorld; v = t.parent[static_cast<std::size_t>(v)]) up_a.push_back(v);
-  int lca = kWorld;
-  std::vector<int> path;
-  for (int v = b; v != kWorld; v = t.parent[static_cast<std::size_t>(v)]) {
-    if (std::find(up_a.begin(), up_a.end(), v) != up_a.end()) {
-      lca = v;
-      break;
-    }
-    path.push_back(v);
-  }
-  for (int v : up_a) {
-    if (v == lca) break;
-    path.push_back(v);
-  }
-  for (int v : path) {
-    const auto vi = static_cast<std::size_t>(v);
-    if (t.free_root[vi]) return false;
-    const Joint& jt = scene.joints[static_cast<std::size_t>(t.joint[vi])];
-    switch (jt.kind) {
-      case Joint::Kind::Hinge:
-        if (!parallel(jt.axis, axis)) return false;
-        break;
-      case Joint::Kind::Slider:
-      case Joint::Kind::Fixed:
-        break;
-      case Joint::Kind::Ball:
-        return false;
-    }
-  }
-  return true;
-}
-
 /// MJCF text, split into files for the virtual file system.
 struct Mjcf {
   std::vector<std::pair<std::string, std::string>> files;  ///< name, content; files[0] is the model
@@ -237,7 +110,8 @@ struct Mjcf {
 
 class Writer {
  public:
-  Writer(const Scene& scene, const Tree& tree, Mjcf& out) : scene_(scene), tree_(tree), out_(out) {}
+  Writer(const Scene& scene, const SceneTree& tree, Mjcf& out)
+      : scene_(scene), tree_(tree), out_(out) {}
 
   /// Writes body v (and its subtree) into `xml`, whose bodies are nested `level` deep.
   void body(int v, int level, std::string& xml) {
@@ -316,7 +190,7 @@ class Writer {
   }
 
   const Scene& scene_;
-  const Tree& tree_;
+  const SceneTree& tree_;
   Mjcf& out_;
 };
 
@@ -391,7 +265,7 @@ void warningToStderr(const char* message) {
 MujocoEngine::MujocoEngine(const Scene& scene) {
   mju_user_warning = warningToStderr;
   mju_user_error = errorToException;
-  const Tree tree = buildTree(scene);
+  const SceneTree tree = buildSceneTree(scene, true);
 
   // Loop closures, exclusions, actuators, and the sizes of the constraint arrays.
   std::string equality, exclude, actuator;
@@ -416,8 +290,8 @@ MujocoEngine::MujocoEngine(const Scene& scene) {
       eq_rows += 3;
     };
     connect(jt.anchor);
-    if (jt.kind == Joint::Kind::Hinge &&
-        !rotationKeptAbout(scene, tree, node(scene, jt.body1), node(scene, jt.body2), jt.axis)) {
+    if (jt.kind == Joint::Kind::Hinge && !rotationKeptAbout(scene, tree, treeNode(scene, jt.body1),
+                                                            treeNode(scene, jt.body2), jt.axis)) {
       connect(jt.anchor + kSecondConnectOffset * jt.axis.normalized());
     }
   }
@@ -442,7 +316,7 @@ MujocoEngine::MujocoEngine(const Scene& scene) {
       if (jt.kind != Joint::Kind::Hinge && jt.kind != Joint::Kind::Slider) {
         throw Unsupported("a motor on a ball or fixed joint is not mapped to MuJoCo");
       }
-      if (node(scene, jt.body1) == node(scene, jt.body2)) continue;  // joins nothing
+      if (treeNode(scene, jt.body1) == treeNode(scene, jt.body2)) continue;  // joins nothing
       actuator += "<velocity name='m" + std::to_string(j) + "' joint='j" + std::to_string(j) +
                   "' kv='1' ctrllimited='false' forcelimited='true' forcerange='" +
                   num(-jt.motor->max_force) + " " + num(jt.motor->max_force) + "'/>";
