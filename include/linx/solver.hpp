@@ -25,12 +25,13 @@ struct SolverSettings {
   /// Each step split into this many assemble-solve-integrate passes; with type Soft, the
   /// substeps of the soft step (the rows are prepared once per step).
   int substeps = 1;
-  /// Back-solves per step that remove the joints' position errors with the factorization of the
-  /// step's own solve (exact islands and the soft step's joints; docs/solver.md); 0 turns it off.
+  /// Newton iterations per step, at most, that close the joints after the positions move, the
+  /// joints' rows aiming at their constraint to second order (every solver; docs/solver.md,
+  /// "Post-stabilization"); 0 turns both off (error reduction alone).
   int post_stabilization = 4;
-  bool projection = false;        ///< Newton projection: pull joint errors back after each step
-  int projection_iterations = 3;  ///< Newton iterations of the projection
-  double projection_tolerance = 1e-12;  ///< stop projecting below this error (m or rad)
+  bool projection = false;        ///< the older name: at least projection_iterations of the above
+  int projection_iterations = 3;  ///< iterations with projection on
+  double projection_tolerance = 1e-12;  ///< stop the iterations below this error (m or rad)
 };
 
 /// Figures of the last step's solve (the last substep's when substepping).

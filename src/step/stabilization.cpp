@@ -85,13 +85,12 @@ double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
     r = Row{.Ja = r.Ja,
             .Jb = r.Jb,
             .phi = r.kind == RowKind::Motor ? 0.0 : r.phi,
+            .erp = 1.0,  // all of the error, over a unit time
             .cfm = r.cfm,
             .key = r.key,
             .body_a = r.body_a,
             .body_b = r.body_b};
     err = std::max(err, std::abs(r.phi));
-    r.speed = 0.0;
-    r.erp = 1.0;
   }
   return err;
 }
