@@ -4,18 +4,54 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 namespace linx::solver {
 
 namespace {
 
+// The block kernels below take the block size n as a template argument where it is one of the
+// common ones (a body's 6, a hinge's 5, a ball's 3, a body with its joint to the world 11...), so
+// that the compiler unrolls their loops; Size == 0 is the same code for any n. The operations and
+// their order are the same either way, so the results are too, to the bit.
+constexpr int kLargestFixedBlock = 12;
+
+// Calls f(std::integral_constant<int, n>) for n up to kLargestFixedBlock, else with 0.
+template <typename F>
+void withBlockSize(int n, F&& f) {
+  switch (n) {
+#define LINX_BLOCK_CASE(k)               \
+  case k:                                \
+    f(std::integral_constant<int, k>{}); \
+    return;
+    LINX_BLOCK_CASE(1)
+    LINX_BLOCK_CASE(2)
+    LINX_BLOCK_CASE(3)
+    LINX_BLOCK_CASE(4)
+    LINX_BLOCK_CASE(5)
+    LINX_BLOCK_CASE(6)
+    LINX_BLOCK_CASE(7)
+    LINX_BLOCK_CASE(8)
+    LINX_BLOCK_CASE(9)
+    LINX_BLOCK_CASE(10)
+    LINX_BLOCK_CASE(11)
+    LINX_BLOCK_CASE(12)
+#undef LINX_BLOCK_CASE
+    default:
+      f(std::integral_constant<int, 0>{});
+  }
+  static_assert(kLargestFixedBlock == 12, "withBlockSize lists every fixed size");
+}
+
 // Dense LDL^T of the n x n column-major matrix a in place (L below the diagonal, D on it), without
 // pivoting: the callers order every node so that its pivots are definite. Rows from `first_row`
 // on are constraint rows: each pivot gets a shift of 1e-13 of its reference diagonal (the diagonal
 // once the body part is eliminated), and a pivot that is nothing but regularization counts as
-// redundant. cfm[j - first_row] is row j's cfm.
-int factorDense(double* a, int n, int first_row, const double* cfm) {
+// redundant. cfm[j - first_row] is row j's cfm. first_row is 6 for a body's node, 0 for a group's.
+template <int Size, int first_row>
+int factorDense(double* a, int n_any, const double* cfm) {
+  const int n = Size > 0 ? Size : n_any;
   int redundant = 0;
   for (int j = 0; j < n; ++j) {
     double d = a[j + j * n];
@@ -39,25 +75,58 @@ int factorDense(double* a, int n, int first_row, const double* cfm) {
   return redundant;
 }
 
-// X = A^-1 X for the m columns of the n x m column-major X at once: the same operations as m calls
-// of solveLdlt, with the columns innermost so that they run side by side.
-void solveDenseColumns(const double* a, int n, double* x, int m) {
-  for (int j = 0; j < n; ++j) {
-    for (int k = 0; k < j; ++k) {
-      const double l = a[j + k * n];
-      for (int c = 0; c < m; ++c) x[j + c * n] -= l * x[k + c * n];
+// X = A^-1 X for the m columns of the n x m column-major X: the same operations as m calls of
+// solveLdlt, a column at a time so that a fixed n unrolls each solve.
+template <int Size>
+void solveDenseColumns(const double* a, int n_any, double* x, int m) {
+  const int n = Size > 0 ? Size : n_any;
+  for (int c = 0; c < m; ++c) solveLdlt(a, n, x + c * n);
+}
+
+// D(parent) -= H^T X for H and X n x m (column-major); dp is m x m and kept symmetric.
+template <int Size>
+void subtractSchur(const double* h, const double* x, int n_any, int m, double* dp) {
+  const int n = Size > 0 ? Size : n_any;
+  for (int c = 0; c < m; ++c) {
+    for (int r = c; r < m; ++r) {
+      double s = 0.0;
+      for (int t = 0; t < n; ++t) s += h[t + r * n] * x[t + c * n];
+      dp[r + c * m] -= s;
+      if (r != c) dp[c + r * m] -= s;
     }
   }
-  for (int j = 0; j < n; ++j) {
-    const double d = a[j + j * n];
-    for (int c = 0; c < m; ++c) x[j + c * n] /= d;
+}
+
+// z(parent) -= X^T z(node) (forward), or z(node) -= X z(parent) (backward); X is n x m.
+template <int Size>
+void subtractTransposed(const double* x, int n_any, int m, const double* z, double* zp) {
+  const int n = Size > 0 ? Size : n_any;
+  for (int c = 0; c < m; ++c) {
+    double s = 0.0;
+    for (int t = 0; t < n; ++t) s += x[t + c * n] * z[t];
+    zp[c] -= s;
   }
-  for (int j = n - 1; j >= 0; --j) {
-    for (int i = j + 1; i < n; ++i) {
-      const double l = a[i + j * n];
-      for (int c = 0; c < m; ++c) x[j + c * n] -= l * x[i + c * n];
+}
+template <int Size>
+void subtractProduct(const double* x, int n_any, int m, const double* zp, double* z) {
+  const int n = Size > 0 ? Size : n_any;
+  if constexpr (Size > 0) {  // the sums side by side, each in the same order as below
+    double s[Size] = {};
+    for (int c = 0; c < m; ++c)
+      for (int t = 0; t < Size; ++t) s[t] += x[t + c * Size] * zp[c];
+    for (int t = 0; t < Size; ++t) z[t] -= s[t];
+  } else {
+    for (int t = 0; t < n; ++t) {
+      double s = 0.0;
+      for (int c = 0; c < m; ++c) s += x[t + c * n] * zp[c];
+      z[t] -= s;
     }
   }
+}
+
+template <int Size>
+void solveBlock(const double* a, int n_any, double* x) {
+  solveLdlt(a, Size > 0 ? Size : n_any, x);
 }
 
 bool movable(const SolverBody& b) {
@@ -273,7 +342,11 @@ int TreeFactorization::factorize(const Problem& p, std::span<const std::uint8_t>
     for (int f = free_begin_[static_cast<std::size_t>(i)];
          f < free_begin_[static_cast<std::size_t>(i) + 1]; ++f)
       cfm.push_back(p.rows[static_cast<std::size_t>(free_rows_[static_cast<std::size_t>(f)])].cfm);
-    redundant += factorDense(d_.data() + node.d, n, first, cfm.data());
+    withBlockSize(n, [&](auto size) {
+      double* d = d_.data() + node.d;
+      redundant += first == 6 ? factorDense<size(), 6>(d, n, cfm.data())
+                              : factorDense<size(), 0>(d, n, cfm.data());
+    });
     if (node.parent < 0) continue;
 
     Node& parent = nodes_[static_cast<std::size_t>(node.parent)];
@@ -299,17 +372,11 @@ int TreeFactorization::factorize(const Problem& p, std::span<const std::uint8_t>
       }
     }
     h.assign(x, x + static_cast<std::size_t>(n * m));
-    solveDenseColumns(d_.data() + node.d, n, x, m);
-    // D(parent) -= H^T X (only the lower part is read later; the full block is kept symmetric).
-    double* dp = d_.data() + parent.d;
-    for (int c = 0; c < m; ++c) {
-      for (int r = c; r < m; ++r) {
-        double s = 0.0;
-        for (int t = 0; t < n; ++t) s += h[static_cast<std::size_t>(t + r * n)] * x[t + c * n];
-        dp[r + c * m] -= s;
-        if (r != c) dp[c + r * m] -= s;
-      }
-    }
+    // X = D^-1 H, then D(parent) -= H^T X.
+    withBlockSize(n, [&](auto size) {
+      solveDenseColumns<size()>(d_.data() + node.d, n, x, m);
+      subtractSchur<size()>(h.data(), x, n, m, d_.data() + parent.d);
+    });
   }
   return redundant;
 }
@@ -328,27 +395,24 @@ void TreeFactorization::solve(std::span<double> x) {
     const Node& node = nodes_[static_cast<std::size_t>(i)];
     if (node.parent < 0) continue;
     const Node& parent = nodes_[static_cast<std::size_t>(node.parent)];
-    const double* xm = l_.data() + node.l;
-    for (int c = 0; c < parent.size; ++c) {
-      double s = 0.0;
-      for (int t = 0; t < node.size; ++t)
-        s += xm[t + c * node.size] * z_[node.z + static_cast<std::size_t>(t)];
-      z_[parent.z + static_cast<std::size_t>(c)] -= s;
-    }
+    withBlockSize(node.size, [&](auto size) {
+      subtractTransposed<size()>(l_.data() + node.l, node.size, parent.size, z_.data() + node.z,
+                                 z_.data() + parent.z);
+    });
   }
   // Diagonal blocks, then backward: z(i) -= X z(parent), roots first.
-  for (const Node& node : nodes_) solveLdlt(d_.data() + node.d, node.size, z_.data() + node.z);
+  for (const Node& node : nodes_)
+    withBlockSize(node.size, [&](auto size) {
+      solveBlock<size()>(d_.data() + node.d, node.size, z_.data() + node.z);
+    });
   for (auto it = order_.rbegin(); it != order_.rend(); ++it) {
     const Node& node = nodes_[static_cast<std::size_t>(*it)];
     if (node.parent < 0) continue;
     const Node& parent = nodes_[static_cast<std::size_t>(node.parent)];
-    const double* xm = l_.data() + node.l;
-    for (int t = 0; t < node.size; ++t) {
-      double s = 0.0;
-      for (int c = 0; c < parent.size; ++c)
-        s += xm[t + c * node.size] * z_[parent.z + static_cast<std::size_t>(c)];
-      z_[node.z + static_cast<std::size_t>(t)] -= s;
-    }
+    withBlockSize(node.size, [&](auto size) {
+      subtractProduct<size()>(l_.data() + node.l, node.size, parent.size, z_.data() + parent.z,
+                              z_.data() + node.z);
+    });
   }
   std::fill(x.begin(), x.end(), 0.0);
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
