@@ -91,7 +91,8 @@ TEST(SceneRead, EveryField) {
     "gravity": [0, -9.8, 0], "timestep": 0.002, "duration": 3.5,
     "solver": {"type": "pgs", "iterations": 40, "tolerance": 1e-8, "erp": 0.3, "cfm": 1e-6,
                "warm_start": false, "sor": 1.3, "substeps": 4, "post_stabilization": 6,
-               "projection": true, "projection_iterations": 5, "projection_tolerance": 1e-9},
+               "projection": true, "projection_iterations": 5, "projection_tolerance": 1e-9,
+               "geometric_stiffness": false},
     "contact": {"max_push_out": 1.5},
     "faults": {"energy": false, "kinetic_fraction": 0.25, "height": 0.5, "speed": 2},
     "bodies": [
@@ -128,6 +129,7 @@ TEST(SceneRead, EveryField) {
   EXPECT_TRUE(solver.projection);
   EXPECT_EQ(solver.projection_iterations, 5);
   EXPECT_EQ(solver.projection_tolerance, 1e-9);
+  EXPECT_FALSE(solver.geometric_stiffness);
   EXPECT_EQ(s.settings.contact.max_push_out, 1.5);
   const linx::FaultSettings& faults = s.settings.faults;
   EXPECT_FALSE(faults.energy);
@@ -472,6 +474,8 @@ TEST(SceneError, Solver) {
        "must be an integer >= 0"},
       {[](json& s) { s["solver"]["projection"] = 1; }, "solver.projection",
        "expected true or false, got a number"},
+      {[](json& s) { s["solver"]["geometric_stiffness"] = "on"; }, "solver.geometric_stiffness",
+       "expected true or false, got a string"},
       {[](json& s) { s["solver"]["projection_iterations"] = 0; }, "solver.projection_iterations",
        "must be an integer >= 1"},
       {[](json& s) { s["solver"]["projection_tolerance"] = -1; }, "solver.projection_tolerance",

@@ -83,6 +83,14 @@ class Joint {
   virtual void track(const BodyState& /*b1*/, const BodyState& /*b2*/) {}
   /// Largest position error of the joint's equality rows, and of a violated limit (m or rad).
   virtual double error(const BodyState& b1, const BodyState& b2) const;
+  /// The turning of the joint's forces, K = d(J^T lambda)/dq: how the generalized force of the
+  /// impulses `lambda` on the rows fill() wrote at ctx (`rows`) changes as the bodies move.
+  /// q = (body1 position, rotation, body2 position, rotation), rotations as small rotation vectors
+  /// about the world axes; a row of K per entry of J^T lambda in the same order. The geometric
+  /// stiffness of the velocity solve is made of it (docs/solver.md). The default differentiates
+  /// fill() numerically; joint types with a closed form override it.
+  virtual Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
+                          std::span<const double> lambda) const;
 
   const std::string& name() const { return def_.name; }
   BodyId body1() const { return def_.body1; }

@@ -32,6 +32,9 @@ struct SolverSettings {
   bool projection = false;        ///< the older name: at least projection_iterations of the above
   int projection_iterations = 3;  ///< iterations with projection on
   double projection_tolerance = 1e-12;  ///< stop the iterations below this error (m or rad)
+  /// The joints' geometric stiffness in the velocity solve (docs/solver.md): the turning of their
+  /// last forces, lumped onto the bodies' masses, keeps chains with heavy bodies stable.
+  bool geometric_stiffness = true;
 };
 
 /// Figures of the last step's solve (the last substep's when substepping).

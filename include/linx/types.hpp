@@ -12,6 +12,8 @@ using Mat3 = Eigen::Matrix3d;
 using Quat = Eigen::Quaterniond;
 /// A 6-vector (linear part, angular part): a body velocity or one body's block of a Jacobian row.
 using Vec6 = Eigen::Matrix<double, 6, 1>;
+/// A joint's two bodies' coordinates against each other (body 1 linear, angular, body 2 ...).
+using Mat12 = Eigen::Matrix<double, 12, 12>;
 
 inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 

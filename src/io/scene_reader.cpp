@@ -408,7 +408,8 @@ class Reader {
   SolverSettings solver(const Node& n) const {
     allowOnly(
         n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
-            "post_stabilization", "projection", "projection_iterations", "projection_tolerance"});
+            "post_stabilization", "projection", "projection_iterations", "projection_tolerance",
+            "geometric_stiffness"});
     SolverSettings s;
     if (auto t = get(n, "type")) {
       const std::string type = string(*t);
@@ -442,6 +443,7 @@ class Reader {
     if (auto v = get(n, "projection")) s.projection = boolean(*v);
     if (auto v = get(n, "projection_iterations")) s.projection_iterations = integer(*v, 1);
     if (auto v = get(n, "projection_tolerance")) s.projection_tolerance = nonNegative(*v);
+    if (auto v = get(n, "geometric_stiffness")) s.geometric_stiffness = boolean(*v);
     return s;
   }
 

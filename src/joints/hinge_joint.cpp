@@ -39,4 +39,20 @@ int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
       ctx, def(), kAngularLimitMargin, [&](Row& row) { angularRow(axis, theta, row); }, rows, 5);
 }
 
+Mat12 HingeJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,
+                            std::span<const double> lambda) const {
+  // Slots 0-2: the point; the others (align, the limits, the motor) turn with body 2.
+  Vec3 impulse = Vec3::Zero(), torque = Vec3::Zero();
+  for (std::size_t m = 0; m < rows.size(); ++m) {
+    if ((rows[m].key & 0xff) < 3)
+      impulse += lambda[m] * rows[m].Ja.head<3>();
+    else
+      torque += lambda[m] * rows[m].Ja.tail<3>();
+  }
+  Mat12 k = Mat12::Zero();
+  addPointStiffness(Arms::of(frames_, ctx.b1, ctx.b2), impulse, k);
+  addBody2AxisStiffness(torque, k);
+  return k;
+}
+
 }  // namespace linx::joints

@@ -10,6 +10,8 @@ class HingeJoint final : public Joint {
   std::string_view type() const override { return "hinge"; }
   int maxRows() const override { return 8; }  // 5 + two limits + motor
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
+  Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
+                  std::span<const double> lambda) const override;
   std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 

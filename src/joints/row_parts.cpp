@@ -85,6 +85,24 @@ void angularRow(const Vec3& a, double theta, Row& row) {
   row.phi = theta;
 }
 
+namespace {
+Mat3 cross(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+}  // namespace
+
+void addPointStiffness(const Arms& arms, const Vec3& impulse, Mat12& k) {
+  k.block<3, 3>(3, 3) += cross(impulse) * cross(arms.r1);
+  k.block<3, 3>(9, 9) -= cross(impulse) * cross(arms.r2);
+}
+
+void addBody2AxisStiffness(const Vec3& torque, Mat12& k) {
+  k.block<3, 3>(3, 9) -= cross(torque);
+  k.block<3, 3>(9, 9) += cross(torque);
+}
+
 double rowRate(const Row& row, const BodyState& b1, const BodyState& b2) {
   return row.Ja.head<3>().dot(b1.v) + row.Ja.tail<3>().dot(b1.w) + row.Jb.head<3>().dot(b2.v) +
          row.Jb.tail<3>().dot(b2.w);

@@ -102,6 +102,15 @@ int limitAndMotorRows(const JointContext& ctx, const JointDef& def, double margi
   return n;
 }
 
+/// Closed forms of Joint::stiffness for the parts above, added to k.
+/// Point rows with impulse vector l = sum lambda_k e_k: the torques r1 x l and -(r2 x l) turn
+/// with the arms, K(rot 1, rot 1) += [l]x [r1]x and K(rot 2, rot 2) -= [l]x [r2]x.
+void addPointStiffness(const Arms& arms, const Vec3& impulse, Mat12& k);
+/// Rows [0, a | 0, -a] with a fixed in body 2 (align, angular, their limits and motors), torque
+/// tau = sum lambda a: tau and -tau turn with body 2, K(rot 1, rot 2) -= [tau]x and
+/// K(rot 2, rot 2) += [tau]x. (Lock rows' axes are the world's: they do not turn.)
+void addBody2AxisStiffness(const Vec3& torque, Mat12& k);
+
 /// Rate J u of a row for the given body states.
 double rowRate(const Row& row, const BodyState& b1, const BodyState& b2);
 

@@ -35,6 +35,7 @@
 
 #include "solver/exact_solver.hpp"
 #include "solver/problem.hpp"
+#include "step/geometric_stiffness.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -54,8 +55,9 @@ class PostStabilization {
   /// predicted by assembling the rows ahead at x + h u: the prediction, at the velocities before
   /// the solve, fed energy into the benchmark's 100-link chain, which whips its links at 0.4 rad a
   /// step, until it blew up. Rows are matched by key; `remember`: keep these rows for the next
-  /// call.
-  void addCurvature(std::span<const Body> bodies, std::span<Row> rows, bool remember);
+  /// call. With `stiffness`, rows of stiffened bodies take a share of it (see the definition).
+  void addCurvature(std::span<const Body> bodies, std::span<Row> rows, bool remember,
+                    const GeometricStiffness* stiffness = nullptr);
   /// Forgets the remembered rows unless they are the last step's and no body was moved by hand
   /// since its endStep.
   void beginStep(std::span<const Body> bodies);
@@ -64,10 +66,12 @@ class PostStabilization {
 
   /// Runs at most `iterations` Newton iterations, stopping once every error is below
   /// `settings.projection_tolerance`. Bodies flagged in `frozen` (sleeping ones) are held where
-  /// they are, as if static. Returns the largest error measured (m or rad), before the last
+  /// they are, as if static. The metric is the velocity solve's, the bodies' masses with their
+  /// geometric stiffness. Returns the largest error measured (m or rad), before the last
   /// correction.
   double run(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
-             const SolverSettings& settings, int iterations, std::span<const std::uint8_t> frozen);
+             const SolverSettings& settings, int iterations, std::span<const std::uint8_t> frozen,
+             const GeometricStiffness& stiffness);
 
  private:
   /// The rows that carry a position error at the current poses, each made to remove all of it

@@ -62,12 +62,17 @@ void prepareRows(const Scene& scene, State& state, double h_joints, double h, bo
   Rows& r = state.rows;
   assembleRows(scene.joints, scene.bodies, solver, h_joints, r.rows);
   r.joint_rows = r.rows.size();
-  if (curvature && solver.post_stabilization > 0) {
-    state.stabilization.beginStep(scene.bodies);
-    state.stabilization.addCurvature(scene.bodies, r.rows, true);
-  }
   r.lambda.assign(r.joint_rows, 0.0);
   if (solver.warm_start) state.joint_warm.load(r.rows, r.lambda);
+  if (solver.geometric_stiffness)
+    state.geometric_stiffness.measure(scene.joints, scene.bodies, solver, h_joints, r.rows,
+                                      r.lambda);
+  else
+    state.geometric_stiffness.clear();
+  if (curvature && solver.post_stabilization > 0) {
+    state.stabilization.beginStep(scene.bodies);
+    state.stabilization.addCurvature(scene.bodies, r.rows, true, &state.geometric_stiffness);
+  }
   state.contact.appendRows(scene.bodies, h, r.rows, r.lambda, solver.warm_start, scene.threads,
                            bounce);
 }
@@ -120,6 +125,8 @@ SolverReport solve(const Scene& scene, State& state, std::span<const std::uint8_
                    double h) {
   gatherSolverBodies(scene, state);
   const SolverSettings& settings = scene.settings.solver;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    state.geometric_stiffness.stiffen(i, scene.bodies[i], state.solver_bodies[i]);
   if (!state.solver || state.solver_type != settings.type) {
     state.solver = solver::makeSolver(settings.type);
     state.solver_type = settings.type;
@@ -275,7 +282,8 @@ void stabilize(const Scene& scene, State& state) {
     std::vector<std::uint8_t>& frozen = state.may_sleep;  // scratch until the sleep stage
     frozen.resize(scene.bodies.size());
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) frozen[i] = !awake(state, i);
-    state.stabilization.run(scene.joints, scene.bodies, settings, iterations, frozen);
+    state.stabilization.run(scene.joints, scene.bodies, settings, iterations, frozen,
+                            state.geometric_stiffness);
   }
   state.stabilization.endStep(scene.bodies);
 }

@@ -35,6 +35,7 @@
 #include "solver/problem.hpp"
 #include "solver/soft_solver.hpp"
 #include "step/contact_stage.hpp"
+#include "step/geometric_stiffness.hpp"
 #include "step/island_solver.hpp"
 #include "step/islands.hpp"
 #include "step/joint_warm_start.hpp"
@@ -82,6 +83,7 @@ struct State {
   std::vector<std::uint8_t> moving;  // soft step: movable and awake
   SubstepJoints substep_joints;
   PostStabilization stabilization;
+  GeometricStiffness geometric_stiffness;
   solver::SoftSolver soft;
   std::vector<solver::SoftSolver::Bounce> bounces;
   std::vector<int> neighbours;
