@@ -46,6 +46,8 @@ struct Variant {
   /// Worker threads (linx): a row with more than one is checked against the reference row for
   /// identical results and its speed-up.
   int threads = 1;
+  /// The Pareto table's short label (--pareto): the solver, and the setting its count sweeps.
+  std::string knob = {};
 };
 
 /// Variants of each engine compiled into this build. The peers' functions exist only when their
@@ -55,5 +57,17 @@ std::vector<Variant> odeVariants(const Scene& scene);
 std::vector<Variant> bulletVariants(const Scene& scene);
 std::vector<Variant> mujocoVariants(const Scene& scene);
 std::vector<Variant> dartVariants(const Scene& scene);
+
+/// The Pareto table's rows of each engine (linx-bench --pareto): the variant of the main table
+/// that has a count to sweep, made by the same factory at each of `counts`, and the engine's
+/// default row when that is another solver. linx: its default row and the soft step at `counts`
+/// substeps; ODE: dWorldQuickStep at `counts` iterations; Bullet: the sequential-impulse solver
+/// at `counts` iterations; MuJoCo: its default (Newton) row and PGS at `counts` iterations; DART:
+/// its default (Dantzig) row and PGS as its boxed-LCP solver at `counts` iterations.
+std::vector<Variant> linxSweep(const Scene& scene, const std::vector<int>& counts);
+std::vector<Variant> odeSweep(const Scene& scene, const std::vector<int>& counts);
+std::vector<Variant> bulletSweep(const Scene& scene, const std::vector<int>& counts);
+std::vector<Variant> mujocoSweep(const Scene& scene, const std::vector<int>& counts);
+std::vector<Variant> dartSweep(const Scene& scene, const std::vector<int>& counts);
 
 }  // namespace bench

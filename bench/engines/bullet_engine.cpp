@@ -206,10 +206,13 @@ TreePlan planTrees(const Scene& s) {
 
 /// Above this many bodies the variants refuse the scene (see the message in the constructor).
 constexpr std::size_t kMaxBodies = 20000;
+/// btContactSolverInfo's default m_numIterations, the main table's.
+constexpr int kDefaultIterations = 10;
 
 class BulletEngine final : public Engine {
  public:
-  BulletEngine(const Scene& scene, bool featherstone) : scene_(scene), h_(scene.timestep) {
+  BulletEngine(const Scene& scene, bool featherstone, int iterations = kDefaultIterations)
+      : scene_(scene), h_(scene.timestep) {
     if (scene.bodies.size() > kMaxBodies) {
       throw Unsupported(
           "Bullet: more than 20,000 bodies; with its default btDbvtBroadphase, 64,000 poured "
@@ -233,6 +236,7 @@ class BulletEngine final : public Engine {
                                                          solver_.get(), config_.get());
     }
     world_->setGravity(bt(scene.gravity));
+    world_->getSolverInfo().m_numIterations = iterations;
 
     const int n = static_cast<int>(scene.bodies.size());
     where_.assign(n, Where{});
@@ -572,30 +576,52 @@ class BulletEngine final : public Engine {
   std::vector<std::unique_ptr<btMultiBodyConstraint>> mbconstraints_;
 };
 
+/// Rigid bodies and typed constraints, sequential impulses at `iterations`.
+Variant sequentialImpulse(const Scene& scene, int iterations) {
+  const bool contacts = hasContacts(scene);
+  const bool defaults = iterations == kDefaultIterations;
+  std::string settings("btRigidBody + joints, sequential impulse ");
+  settings += std::to_string(iterations);
+  if (contacts) {
+    settings += " it, ERP 0.2, split impulse, 4 pts/pair, sleeping on";
+    if (defaults) settings += " (defaults)";
+  } else {
+    settings += defaults ? " it, ERP 0.2 (defaults), sleeping off" : " it, ERP 0.2, sleeping off";
+  }
+  Variant v{"Bullet", std::move(settings),
+            [iterations](const Scene& s) -> std::unique_ptr<Engine> {
+              return std::make_unique<BulletEngine>(s, false, iterations);
+            },
+            false};
+  std::string knob("sequential impulse, btContactSolverInfo::m_numIterations = ");
+  knob += std::to_string(iterations);
+  v.knob = std::move(knob);
+  return v;
+}
+
 }  // namespace
 
 std::vector<Variant> bulletVariants(const Scene& scene) {
   std::vector<Variant> v;
-  const bool contacts = hasContacts(scene);
-  v.push_back(Variant{
-      "Bullet",
-      contacts ? "btRigidBody + joints, sequential impulse 10 it, ERP 0.2, split impulse, 4 "
-                 "pts/pair, sleeping on (defaults)"
-               : "btRigidBody + joints, sequential impulse 10 it, ERP 0.2 (defaults), sleeping off",
-      [](const Scene& s) -> std::unique_ptr<Engine> {
-        return std::make_unique<BulletEngine>(s, false);
-      },
-      false});
+  v.push_back(sequentialImpulse(scene, kDefaultIterations));
   if (!scene.joints.empty()) {  // trees of hinges; make() says why not for other joint sets
     v.push_back(Variant{
         "Bullet",
         std::string("btMultiBody, btMultiBodyConstraintSolver 10 it, damping 0 (default 0.04)") +
-            (contacts ? ", sleeping on" : ", sleeping off"),
+            (hasContacts(scene) ? ", sleeping on" : ", sleeping off"),
         [](const Scene& s) -> std::unique_ptr<Engine> {
           return std::make_unique<BulletEngine>(s, true);
         },
         false});
   }
+  return v;
+}
+
+// Bullet's default row is the sequential-impulse solver, swept; btMultiBody (trees of hinges)
+// runs none of the Pareto table's scenes.
+std::vector<Variant> bulletSweep(const Scene& scene, const std::vector<int>& counts) {
+  std::vector<Variant> v;
+  for (int iterations : counts) v.push_back(sequentialImpulse(scene, iterations));
   return v;
 }
 

@@ -127,39 +127,68 @@ bool hasContacts(const Scene& scene) {
 
 }  // namespace
 
+namespace {
+
+Variant variant(std::string settings, const linx::SolverSettings& solver, bool reference,
+                int threads = 1) {
+  return Variant{"linx", std::move(settings),
+                 [solver, threads](const Scene& s) -> std::unique_ptr<Engine> {
+                   return std::make_unique<LinxEngine>(s, solver, threads);
+                 },
+                 reference, threads};
+}
+
+/// The reference row: linx's defaults, one thread.
+Variant defaultRow(const Scene& scene) {
+  const linx::SolverSettings defaults;
+  if (hasContacts(scene)) {
+    Variant v = variant("default: auto (PGS on friction islands, " +
+                            std::to_string(defaults.iterations) + " it max)",
+                        defaults, true);
+    v.knob = "default step: auto (PGS, " + std::to_string(defaults.iterations) + " sweeps max)";
+    return v;
+  }
+  Variant v = variant("default: auto (exact, post-stabilization " +
+                          std::to_string(defaults.post_stabilization) + " it)",
+                      defaults, true);
+  v.knob = "default step: auto (exact)";
+  return v;
+}
+
+/// The soft step (docs/solver.md), one thread: rows prepared once, `substeps` substeps of one
+/// sweep each.
+Variant softStep(int substeps) {
+  linx::SolverSettings soft;
+  soft.type = linx::SolverType::Soft;
+  soft.substeps = substeps;
+  std::string settings("soft step, ");
+  settings += std::to_string(substeps);
+  settings += substeps == 1 ? " substep" : " substeps";
+  Variant v = variant(settings, soft, false);
+  std::string knob("soft step, SolverSettings::substeps = ");
+  knob += std::to_string(substeps);
+  v.knob = std::move(knob);
+  return v;
+}
+
+}  // namespace
+
 std::vector<Variant> linxVariants(const Scene& scene) {
-  const auto variant = [](std::string settings, linx::SolverSettings solver, bool reference,
-                          int threads = 1) {
-    return Variant{"linx", std::move(settings),
-                   [solver, threads](const Scene& s) -> std::unique_ptr<Engine> {
-                     return std::make_unique<LinxEngine>(s, solver, threads);
-                   },
-                   reference, threads};
-  };
   const linx::SolverSettings defaults;
   std::vector<Variant> out;
+  out.push_back(defaultRow(scene));
   if (hasContacts(scene)) {
-    const std::string name = "default: auto (PGS on friction islands, " +
-                             std::to_string(defaults.iterations) + " it max)";
-    out.push_back(variant(name, defaults, true));
     // The same on every hardware thread: the same results to the bit, in less time.
     const int cores = static_cast<int>(std::thread::hardware_concurrency());
     if (cores > 1)
-      out.push_back(
-          variant(name + ", " + std::to_string(cores) + " threads", defaults, false, cores));
-    // The soft step (docs/solver.md), one thread: rows prepared once, 4 substeps of one sweep.
-    linx::SolverSettings soft = defaults;
-    soft.type = linx::SolverType::Soft;
-    soft.substeps = 4;
-    out.push_back(variant("soft step, 4 substeps", soft, false));
+      out.push_back(variant(out.front().settings + ", " + std::to_string(cores) + " threads",
+                            defaults, false, cores));
+    out.push_back(softStep(4));
     return out;
   }
   // Mechanisms: the default (exact, then the joints' post-stabilization), without the
   // post-stabilization (error reduction alone), with more of its iterations, and with substeps
   // for stiff chains.
-  out.push_back(variant("default: auto (exact, post-stabilization " +
-                            std::to_string(defaults.post_stabilization) + " it)",
-                        defaults, true));
   linx::SolverSettings erp_only = defaults;
   erp_only.post_stabilization = 0;
   out.push_back(variant("exact, ERP 0.2 only", erp_only, false));
@@ -169,6 +198,12 @@ std::vector<Variant> linxVariants(const Scene& scene) {
   linx::SolverSettings substepped = defaults;
   substepped.substeps = 4;
   out.push_back(variant("default, 4 substeps", substepped, false));
+  return out;
+}
+
+std::vector<Variant> linxSweep(const Scene& scene, const std::vector<int>& counts) {
+  std::vector<Variant> out{defaultRow(scene)};
+  for (int substeps : counts) out.push_back(softStep(substeps));
   return out;
 }
 

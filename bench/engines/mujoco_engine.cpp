@@ -1,6 +1,6 @@
-// MuJoCo 2.2.2 (Debian libmujoco-dev) adapter: one variant, MuJoCo's defaults (Newton solver, its
-// default iterations and tolerance, pyramidal friction cone, soft constraints with the default
-// solref/solimp, semi-implicit Euler).
+// MuJoCo 2.2.2 (Debian libmujoco-dev) adapter: MuJoCo's defaults (Newton solver, its default
+// iterations and tolerance, pyramidal friction cone, soft constraints with the default
+// solref/solimp, semi-implicit Euler); in the Pareto table PGS at a given number of iterations.
 //
 // MuJoCo works in reduced (joint) coordinates, so the scene becomes a kinematic tree, written as an
 // MJCF string and compiled by mj_loadXML from a virtual file system:
@@ -47,9 +47,8 @@
 //   adapter then reports NaN poses, so the accuracy figure shows the blow-up. MuJoCo's default
 //   error handler waits for Enter and exits; the adapter's turns errors into exceptions.
 // - step() is mj_step2 followed by mj_step1 (the construction calls mj_step1 once): together
-// exactly
-//   mj_step for the Euler integrator, but it leaves xpos/xquat at the new positions for pose()
-//   (after mj_step they would still describe the start of the step).
+//   exactly mj_step for the Euler integrator, but it leaves xpos/xquat at the new positions for
+//   pose() (after mj_step they would still describe the start of the step).
 #include "engine.hpp"
 #include "scene_tree.hpp"
 
@@ -194,6 +193,12 @@ class Writer {
   Mjcf& out_;
 };
 
+/// What a variant changes in MuJoCo's defaults.
+struct Options {
+  int solver = -1;     ///< mjtSolver; -1: MuJoCo's default (Newton)
+  int iterations = 0;  ///< the solver's iteration cap; 0: MuJoCo's default (100)
+};
+
 struct ModelDeleter {
   void operator()(mjModel* m) const { mj_deleteModel(m); }
 };
@@ -209,7 +214,7 @@ struct VfsDeleter {
 
 class MujocoEngine final : public Engine {
  public:
-  explicit MujocoEngine(const Scene& scene);
+  MujocoEngine(const Scene& scene, const Options& options);
   void step() override {
     mjData* d = data_.get();
     const double t = d->time + model_->opt.timestep;
@@ -262,7 +267,7 @@ void warningToStderr(const char* message) {
   throw std::runtime_error(std::string("MuJoCo error: ") + message);
 }
 
-MujocoEngine::MujocoEngine(const Scene& scene) {
+MujocoEngine::MujocoEngine(const Scene& scene, const Options& options) {
   mju_user_warning = warningToStderr;
   mju_user_error = errorToException;
   const SceneTree tree = buildSceneTree(scene, true);
@@ -415,6 +420,8 @@ MujocoEngine::MujocoEngine(const Scene& scene) {
     if (!model_) throw std::runtime_error(std::string("mj_loadXML: ") + error);
   }
   mjModel* m = model_.get();
+  if (options.solver >= 0) m->opt.solver = options.solver;
+  if (options.iterations > 0) m->opt.iterations = options.iterations;
   data_.reset(mj_makeData(m));
   if (!data_) throw std::runtime_error("mj_makeData failed");
   mjData* d = data_.get();
@@ -490,9 +497,11 @@ MujocoEngine::MujocoEngine(const Scene& scene) {
   }
 }
 
-std::string settingsString() {
+std::string settingsString(const Options& options) {
   mjOption opt;
   mj_defaultOption(&opt);
+  if (options.solver >= 0) opt.solver = options.solver;
+  if (options.iterations > 0) opt.iterations = options.iterations;
   mjtNum solref[mjNREF], solimp[mjNIMP];
   mj_defaultSolRefImp(solref, solimp);
   const char* solver = opt.solver == mjSOL_NEWTON ? "Newton"
@@ -508,16 +517,37 @@ std::string settingsString() {
   return buf;
 }
 
-}  // namespace
-
-std::vector<Variant> mujocoVariants(const Scene&) {
+Variant variant(const Options& options, std::string knob) {
   Variant v;
   v.engine = "MuJoCo";
-  v.settings = settingsString();
-  v.make = [](const Scene& scene) -> std::unique_ptr<Engine> {
-    return std::make_unique<MujocoEngine>(scene);
+  v.settings = settingsString(options);
+  v.make = [options](const Scene& scene) -> std::unique_ptr<Engine> {
+    return std::make_unique<MujocoEngine>(scene, options);
   };
-  return {v};
+  v.knob = std::move(knob);
+  return v;
+}
+
+}  // namespace
+
+std::vector<Variant> mujocoVariants(const Scene& /*scene*/) {
+  return {variant(Options{}, "default: Newton, Euler")};
+}
+
+// PGS is swept, as the other engines' projected Gauss-Seidel or sequential-impulse solvers are;
+// the default solver (Newton, which stops at its tolerance) keeps its own row.
+std::vector<Variant> mujocoSweep(const Scene& /*scene*/, const std::vector<int>& counts) {
+  mjOption defaults;
+  mj_defaultOption(&defaults);
+  std::string knob("default: Newton, mjOption::iterations = ");
+  knob += std::to_string(defaults.iterations);
+  std::vector<Variant> out{variant(Options{}, std::move(knob))};
+  for (int iterations : counts) {
+    std::string pgs("PGS, mjOption::iterations = ");
+    pgs += std::to_string(iterations);
+    out.push_back(variant(Options{mjSOL_PGS, iterations}, std::move(pgs)));
+  }
+  return out;
 }
 
 }  // namespace bench

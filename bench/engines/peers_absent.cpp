@@ -8,9 +8,15 @@ namespace bench {
 std::vector<Variant> odeVariants(const Scene&) {
   return {};
 }
+std::vector<Variant> odeSweep(const Scene&, const std::vector<int>&) {
+  return {};
+}
 #endif
 #ifndef LINX_BENCH_HAVE_BULLET
 std::vector<Variant> bulletVariants(const Scene&) {
+  return {};
+}
+std::vector<Variant> bulletSweep(const Scene&, const std::vector<int>&) {
   return {};
 }
 #endif
@@ -18,9 +24,15 @@ std::vector<Variant> bulletVariants(const Scene&) {
 std::vector<Variant> mujocoVariants(const Scene&) {
   return {};
 }
+std::vector<Variant> mujocoSweep(const Scene&, const std::vector<int>&) {
+  return {};
+}
 #endif
 #ifndef LINX_BENCH_HAVE_DART
 std::vector<Variant> dartVariants(const Scene&) {
+  return {};
+}
+std::vector<Variant> dartSweep(const Scene&, const std::vector<int>&) {
   return {};
 }
 #endif
