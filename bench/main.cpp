@@ -1,6 +1,6 @@
 // linx-bench: the scenes of issue 4 in linx and, where they were found at configure time, in ODE,
-// Bullet, MuJoCo and DART, one after another in one process; prints one table and the targets.
-// See docs/performance.md.
+// Bullet, MuJoCo and DART, one after another in one process; prints one table and the targets, or
+// with --pareto the Pareto table of accuracy against time. See docs/performance.md.
 #include "engine.hpp"
 #include "report.hpp"
 #include "runner.hpp"
@@ -46,6 +46,18 @@ std::vector<SceneEntry> sceneList(bool quick) {
   return list;
 }
 
+/// The Pareto table's scenes (--pareto): the pyramids of 55 and 210 boxes and the 1,000-sphere
+/// pile.
+std::vector<SceneEntry> paretoSceneList(bool quick) {
+  using namespace bench;
+  std::vector<SceneEntry> list;
+  for (int base : quick ? std::vector<int>{10} : std::vector<int>{10, 20}) {
+    list.push_back({"pyramid", [base] { return pyramid(base); }, base * (base + 1) / 2});
+  }
+  list.push_back({"spheres", [] { return pouredSpheres(1000); }, 1000});
+  return list;
+}
+
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
@@ -61,6 +73,7 @@ int main(int argc, char** argv) {
   int max_bodies = 0;
   double budget = 120.0;
   std::string markdown;
+  bool pareto = false;
   app.add_option("--scene", scene_names,
                  "Scenes to run (default all): chain, heavy-chain, pyramid, spheres, slider-crank, "
                  "ragdolls")
@@ -70,7 +83,9 @@ int main(int argc, char** argv) {
                  "Engines to run (default every one built): linx, ode, bullet, mujoco, dart")
       ->check(CLI::IsMember({"linx", "ode", "bullet", "mujoco", "dart"}));
   app.add_flag("--quick", quick,
-               "Smallest size of each scene and 20 steps: a smoke test, not a measurement");
+               "Smallest size of each scene and 20 steps (with --pareto: the 55-box pyramid and "
+               "the sphere pile, the least and the most substeps and iterations): a smoke test, "
+               "not a measurement");
   app.add_option("--max-bodies", max_bodies, "Skip scene sizes with more bodies than this")
       ->check(CLI::PositiveNumber);
   app.add_option("--budget", budget,
@@ -78,6 +93,11 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--markdown", markdown,
                  "Also write the machine, command, table and targets to this Markdown file");
+  app.add_flag("--pareto", pareto,
+               "Instead of the table and targets, the Pareto table: accuracy against time on the "
+               "pyramids of 55 and 210 boxes and the 1,000-sphere pile, for linx's default step "
+               "and its soft step at 1, 2, 4 and 8 substeps, and each peer at 10, 20, 50 and 100 "
+               "iterations (and its default row when that is another solver)");
   CLI11_PARSE(app, argc, argv);
 
   std::string command = "linx-bench";
@@ -86,16 +106,29 @@ int main(int argc, char** argv) {
     return list.empty() || std::find(list.begin(), list.end(), name) != list.end();
   };
 
+  // The Pareto table's counts: linx's soft-step substeps, the peers' iterations.
+  const std::vector<int> substeps = quick ? std::vector<int>{1, 8} : std::vector<int>{1, 2, 4, 8};
+  const std::vector<int> iterations =
+      quick ? std::vector<int>{10, 100} : std::vector<int>{10, 20, 50, 100};
   std::vector<bench::Result> results;
-  for (const SceneEntry& entry : sceneList(quick)) {
+  for (const SceneEntry& entry : pareto ? paretoSceneList(quick) : sceneList(quick)) {
     if (!wanted(scene_names, entry.key)) continue;
     if (max_bodies > 0 && entry.bodies > max_bodies) continue;
     bench::Scene scene = entry.make();
     if (quick) scene.steps = std::min(scene.steps, 20);
-    std::vector<bench::Variant> variants = bench::linxVariants(scene);
-    for (auto* more : {&bench::odeVariants, &bench::bulletVariants, &bench::mujocoVariants,
-                       &bench::dartVariants}) {
-      for (bench::Variant& v : more(scene)) variants.push_back(std::move(v));
+    std::vector<bench::Variant> variants;
+    if (pareto) {
+      variants = bench::linxSweep(scene, substeps);
+      for (auto* more :
+           {&bench::odeSweep, &bench::bulletSweep, &bench::mujocoSweep, &bench::dartSweep}) {
+        for (bench::Variant& v : more(scene, iterations)) variants.push_back(std::move(v));
+      }
+    } else {
+      variants = bench::linxVariants(scene);
+      for (auto* more : {&bench::odeVariants, &bench::bulletVariants, &bench::mujocoVariants,
+                         &bench::dartVariants}) {
+        for (bench::Variant& v : more(scene)) variants.push_back(std::move(v));
+      }
     }
     for (const bench::Variant& v : variants) {
       if (!wanted(engine_names, lower(v.engine))) continue;
@@ -111,27 +144,40 @@ int main(int argc, char** argv) {
   }
 
   const std::vector<std::string> machine = bench::machineDescription();
-  const std::vector<bench::Target> targets = bench::targets(results);
   for (const std::string& line : machine) fmt::print("{}\n", line);
-  fmt::print("Command: {}\n\n{}\nTargets:\n{}", command, bench::table(results, false),
-             bench::targetLines(targets, false));
+  std::string report = "Machine:\n\n";
+  for (const std::string& line : machine) report += "- " + line + "\n";
+  report += "\nCommand: `" + command + "`\n";
+  if (pareto) {
+    fmt::print("Command: {}\n{}", command, bench::paretoTable(results, false));
+    report += bench::paretoTable(results, true);
+  } else {
+    const std::vector<bench::Target> targets = bench::targets(results);
+    fmt::print("Command: {}\n\n{}\nTargets:\n{}", command, bench::table(results, false),
+               bench::targetLines(targets, false));
+    report +=
+        "\n" + bench::table(results, true) + "\nTargets:\n\n" + bench::targetLines(targets, true);
+  }
   bool failed = false;
   for (const bench::Result& r : results) failed = failed || (r.reference && !r.ran);
 
   if (!markdown.empty()) {
-    std::string report = "Machine:\n\n";
-    for (const std::string& line : machine) report += "- " + line + "\n";
-    report += "\nCommand: `" + command + "`\n\n" + bench::table(results, true) + "\nTargets:\n\n" +
-              bench::targetLines(targets, true);
-    // A file with the markers gets the report between them, the rest kept (docs/performance.md);
+    // A file with the markers gets the report between them, the rest kept (docs/performance.md:
+    // the table's between linx-bench:begin and :end, the Pareto table's between
+    // linx-bench:pareto:begin and :end); a file with only the other report's markers is refused,
     // any other file is the report alone. Written under a temporary name, then renamed.
-    const std::string begin = "<!-- linx-bench:begin -->", end = "<!-- linx-bench:end -->";
+    const std::string kind = pareto ? "linx-bench:pareto:" : "linx-bench:";
+    const std::string begin = "<!-- " + kind + "begin -->", end = "<!-- " + kind + "end -->";
     std::string text = report;
     if (std::ifstream in{markdown}) {
       const std::string old{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
       const auto b = old.find(begin), e = old.find(end);
       if (b != std::string::npos && e != std::string::npos && b < e) {
         text = old.substr(0, b + begin.size()) + "\n" + report + old.substr(e);
+      } else if (old.find("<!-- linx-bench:") != std::string::npos) {
+        std::fprintf(stderr, "linx-bench: %s has no %s ... %s markers for this report\n",
+                     markdown.c_str(), begin.c_str(), end.c_str());
+        return 2;
       }
     }
     const std::string tmp = markdown + ".tmp";

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <thread>
@@ -47,6 +48,44 @@ std::string firstLine(const std::string& path, const std::string& key) {
   return "unknown";
 }
 
+/// A table, fixed-width (columns padded, `right` ones aligned right) or Markdown.
+std::string render(const std::vector<std::string>& head,
+                   const std::vector<std::vector<std::string>>& rows,
+                   const std::function<bool(std::size_t)>& right, bool markdown) {
+  std::string out;
+  if (markdown) {
+    const auto line = [&](const std::vector<std::string>& cells) {
+      out += "|";
+      for (const std::string& c : cells) out += " " + c + " |";
+      out += "\n";
+    };
+    line(head);
+    out += "|";
+    for (std::size_t i = 0; i < head.size(); ++i) out += right(i) ? "---:|" : "---|";
+    out += "\n";
+    for (const auto& row : rows) line(row);
+    return out;
+  }
+  std::vector<std::size_t> width(head.size());
+  for (std::size_t i = 0; i < head.size(); ++i) width[i] = head[i].size();
+  for (const auto& row : rows) {
+    for (std::size_t i = 0; i < row.size(); ++i) width[i] = std::max(width[i], row[i].size());
+  }
+  const auto line = [&](const std::vector<std::string>& cells) {
+    std::string l;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      l += right(i) ? fmt::format("{:>{}}", cells[i], width[i])
+                    : fmt::format("{:<{}}", cells[i], width[i]);
+      l += i + 1 < cells.size() ? "  " : "";
+    }
+    while (!l.empty() && l.back() == ' ') l.pop_back();
+    out += l + "\n";
+  };
+  line(head);
+  for (const auto& row : rows) line(row);
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> machineDescription() {
@@ -84,38 +123,60 @@ std::string table(const std::vector<Result>& results, bool markdown) {
                     r.ran ? fmt::format("{:.4g}", r.median_ms) : "-", accuracyText(r), ratio,
                     r.ran ? fmt::format("{:.1f}", r.heap_peak_mib) : "-", note});
   }
-  std::string out;
-  if (markdown) {
-    const auto line = [&](const std::vector<std::string>& cells) {
-      out += "|";
-      for (const std::string& c : cells) out += " " + c + " |";
-      out += "\n";
-    };
-    line(head);
-    out += "|";
-    for (std::size_t i = 0; i < head.size(); ++i) out += i >= 4 && i <= 7 ? "---:|" : "---|";
-    out += "\n";
-    for (const auto& row : rows) line(row);
-    return out;
-  }
-  std::vector<std::size_t> width(head.size());
-  for (std::size_t i = 0; i < head.size(); ++i) width[i] = head[i].size();
-  for (const auto& row : rows) {
-    for (std::size_t i = 0; i < row.size(); ++i) width[i] = std::max(width[i], row[i].size());
-  }
-  const auto line = [&](const std::vector<std::string>& cells) {
-    std::string l;
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const bool right = i >= 4 && i <= 7;
-      l += right ? fmt::format("{:>{}}", cells[i], width[i])
-                 : fmt::format("{:<{}}", cells[i], width[i]);
-      l += i + 1 < cells.size() ? "  " : "";
-    }
-    while (!l.empty() && l.back() == ' ') l.pop_back();
-    out += l + "\n";
+  return render(
+      head, rows, [](std::size_t i) { return i >= 4 && i <= 7; }, markdown);
+}
+
+std::string paretoTable(const std::vector<Result>& results, bool markdown) {
+  // A row takes part when it ran every step to a finite figure; figures below the floor are equal.
+  const auto complete = [](const Result& r) {
+    return r.ran && r.steps == r.steps_planned && !std::isnan(r.accuracy);
   };
-  line(head);
-  for (const auto& row : rows) line(row);
+  const auto error = [](const Result& r) { return std::max(r.accuracy, kAccuracyFloor); };
+  const auto dominates = [&](const Result& a,
+                             const Result& b) {  // a at least as good, better in one
+    return a.median_ms <= b.median_ms && error(a) <= error(b) &&
+           (a.median_ms < b.median_ms || error(a) < error(b));
+  };
+  std::string out;
+  std::vector<std::string> done;  // scenes in the order they ran
+  for (const Result& first : results) {
+    const std::string key = first.scene + " " + first.size;
+    if (std::find(done.begin(), done.end(), key) != done.end()) continue;
+    done.push_back(key);
+    std::vector<const Result*> scene;
+    for (const Result& r : results) {
+      if (r.scene == first.scene && r.size == first.size) scene.push_back(&r);
+    }
+    // The complete rows by time, so that the front reads down the table; the others after them.
+    std::stable_sort(scene.begin(), scene.end(), [&](const Result* a, const Result* b) {
+      if (complete(*a) != complete(*b)) return complete(*a);
+      return complete(*a) && a->median_ms < b->median_ms;
+    });
+    std::vector<std::vector<std::string>> rows;
+    for (const Result* r : scene) {
+      std::string front = "-";
+      if (complete(*r)) {
+        front = "yes";
+        for (const Result* other : scene) {
+          if (complete(*other) && dominates(*other, *r)) front = "";
+        }
+      }
+      std::string note = r->note;
+      if (r->ran && r->steps < r->steps_planned) {
+        note = fmt::format("{} ({} of {} steps: off the front)", note, r->steps, r->steps_planned);
+      }
+      rows.push_back({r->engine, r->knob.empty() ? r->settings : r->knob,
+                      r->ran ? fmt::format("{:.4g}", r->median_ms) : "-", accuracyText(*r), front,
+                      note});
+    }
+    const std::string title =
+        fmt::format("{}, accuracy: {} (worst over the run)", key, first.metric);
+    out += markdown ? "\n**" + title + "**\n\n" : "\n" + title + "\n";
+    out += render(
+        {"engine", "settings (the swept count)", "ms/step", "accuracy", "Pareto front", "note"},
+        rows, [](std::size_t i) { return i == 2 || i == 3; }, markdown);
+  }
   return out;
 }
 

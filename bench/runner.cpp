@@ -53,6 +53,8 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
   r.size = scene.size;
   r.engine = variant.engine;
   r.settings = variant.settings;
+  r.knob = variant.knob;
+  r.metric = Accuracy::describe(scene.metric);
   r.is_linx = variant.engine == "linx";
   r.reference = variant.reference;
   r.steps_planned = scene.steps;

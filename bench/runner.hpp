@@ -13,6 +13,8 @@ namespace bench {
 
 struct Result {
   std::string scene, size, engine, settings;
+  std::string knob;        ///< Variant::knob (the Pareto table's label)
+  std::string metric;      ///< what `accuracy` measures: "largest box displacement", ...
   bool is_linx = false;    ///< a row of linx (any settings)
   bool reference = false;  ///< the linx row the ratios are taken against
   bool ran = false;        ///< false: the variant refused the scene or failed (see note)
