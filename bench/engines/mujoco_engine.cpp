@@ -1,6 +1,7 @@
 // MuJoCo 2.2.2 (Debian libmujoco-dev) adapter: MuJoCo's defaults (Newton solver, its default
 // iterations and tolerance, pyramidal friction cone, soft constraints with the default
-// solref/solimp, semi-implicit Euler); in the Pareto table PGS at a given number of iterations.
+// solref/solimp, semi-implicit Euler); on mechanisms without contacts also RK4, at h and at h / 4
+// (see mujocoVariants); in the Pareto table PGS at a given number of iterations.
 //
 // MuJoCo works in reduced (joint) coordinates, so the scene becomes a kinematic tree, written as an
 // MJCF string and compiled by mj_loadXML from a virtual file system:
@@ -48,7 +49,9 @@
 //   error handler waits for Enter and exits; the adapter's turns errors into exceptions.
 // - step() is mj_step2 followed by mj_step1 (the construction calls mj_step1 once): together
 //   exactly mj_step for the Euler integrator, but it leaves xpos/xquat at the new positions for
-//   pose() (after mj_step they would still describe the start of the step).
+//   pose() (after mj_step they would still describe the start of the step). RK4 runs only through
+//   mj_step, which leaves them at an inner stage: pose() then calls mj_kinematics first, outside
+//   the timed step (the next mj_step computes the same again).
 #include "engine.hpp"
 #include "scene_tree.hpp"
 
@@ -195,8 +198,10 @@ class Writer {
 
 /// What a variant changes in MuJoCo's defaults.
 struct Options {
-  int solver = -1;     ///< mjtSolver; -1: MuJoCo's default (Newton)
-  int iterations = 0;  ///< the solver's iteration cap; 0: MuJoCo's default (100)
+  int solver = -1;               ///< mjtSolver; -1: MuJoCo's default (Newton)
+  int iterations = 0;            ///< the solver's iteration cap; 0: MuJoCo's default (100)
+  int integrator = mjINT_EULER;  ///< mjINT_EULER or mjINT_RK4
+  int substeps = 1;              ///< MuJoCo steps of scene.timestep / substeps per step()
 };
 
 struct ModelDeleter {
@@ -217,9 +222,16 @@ class MujocoEngine final : public Engine {
   MujocoEngine(const Scene& scene, const Options& options);
   void step() override {
     mjData* d = data_.get();
-    const double t = d->time + model_->opt.timestep;
-    mj_step2(model_.get(), d);
-    mj_step1(model_.get(), d);
+    const double t = d->time + substeps_ * model_->opt.timestep;
+    for (int k = 0; k < substeps_; ++k) {
+      if (model_->opt.integrator == mjINT_RK4) {
+        mj_step(model_.get(), d);  // RK4 only through mj_step: xpos is left from an inner stage
+        posed_ = false;
+      } else {
+        mj_step2(model_.get(), d);  // Euler, then the next step's positions
+        mj_step1(model_.get(), d);
+      }
+    }
     // MuJoCo does not stop on these. A diverged simulation (non-finite or huge accelerations) is
     // reset to the initial state and goes on: from then on pose() reports NaN, which the accuracy
     // figure shows as a blown-up engine (MuJoCo's warning, on stderr, gives the time). Contacts or
@@ -242,6 +254,10 @@ class MujocoEngine final : public Engine {
       const double nan = std::numeric_limits<double>::quiet_NaN();
       return Pose{Vec3::Constant(nan), Quat(nan, nan, nan, nan)};
     }
+    if (!posed_) {  // after an RK4 step: the positions' kinematics, untimed (mj_step redoes it)
+      mj_kinematics(model_.get(), data_.get());
+      posed_ = true;
+    }
     const int id = body_id_[static_cast<std::size_t>(i)];
     const mjtNum* p = data_->xpos + 3 * id;
     const mjtNum* q = data_->xquat + 4 * id;
@@ -253,6 +269,8 @@ class MujocoEngine final : public Engine {
   std::unique_ptr<mjData, DataDeleter> data_;
   std::vector<int> body_id_;
   bool diverged_ = false;
+  int substeps_ = 1;
+  mutable bool posed_ = true;  ///< xpos, xquat are the current positions'
 };
 
 /// MuJoCo's default warning handler prints to stdout and appends to MUJOCO_LOG.TXT in the current
@@ -267,7 +285,8 @@ void warningToStderr(const char* message) {
   throw std::runtime_error(std::string("MuJoCo error: ") + message);
 }
 
-MujocoEngine::MujocoEngine(const Scene& scene, const Options& options) {
+MujocoEngine::MujocoEngine(const Scene& scene, const Options& options)
+    : substeps_(options.substeps) {
   mju_user_warning = warningToStderr;
   mju_user_error = errorToException;
   const SceneTree tree = buildSceneTree(scene, true);
@@ -384,8 +403,9 @@ MujocoEngine::MujocoEngine(const Scene& scene, const Options& options) {
   Mjcf mjcf;
   mjcf.files.emplace_back("model.xml", std::string());
   std::string xml = "<mujoco model='bench'><compiler angle='radian'/>";
-  xml += "<option timestep='" + num(scene.timestep) + "' gravity='" + vec(scene.gravity) +
-         "' integrator='Euler'/>";
+  xml += "<option timestep='" + num(scene.timestep / options.substeps) + "' gravity='" +
+         vec(scene.gravity) + "' integrator='" +
+         (options.integrator == mjINT_RK4 ? "RK4" : "Euler") + "'/>";
   xml += "<size njmax='" + std::to_string(njmax) + "' nconmax='" + std::to_string(nconmax) + "'";
   if (cap_stack) xml += " nstack='" + num(kStackCap) + "'";
   xml += "/>";
@@ -510,11 +530,20 @@ std::string settingsString(const Options& options) {
   const char* cone = opt.cone == mjCONE_PYRAMIDAL ? "pyramidal" : "elliptic";
   char buf[400];
   std::snprintf(buf, sizeof buf,
-                "%s %d it tol %g, %s cone, Euler, solref %g %g, solimp %g %g %g %g %g, condim 3; "
+                "%s %d it tol %g, %s cone, %s, solref %g %g, solimp %g %g %g %g %g, condim 3; "
                 "loops: connect; motor: velocity actuator kv = M_eff/h",
-                solver, opt.iterations, opt.tolerance, cone, solref[0], solref[1], solimp[0],
+                solver, opt.iterations, opt.tolerance, cone,
+                options.integrator == mjINT_RK4 ? "RK4" : "Euler", solref[0], solref[1], solimp[0],
                 solimp[1], solimp[2], solimp[3], solimp[4]);
-  return buf;
+  std::string out = buf;
+  if (options.substeps > 1) {
+    out += ", ";
+    out += std::to_string(options.substeps);
+    out += " substeps (h / ";
+    out += std::to_string(options.substeps);
+    out += ")";
+  }
+  return out;
 }
 
 Variant variant(const Options& options, std::string knob) {
@@ -530,8 +559,23 @@ Variant variant(const Options& options, std::string knob) {
 
 }  // namespace
 
-std::vector<Variant> mujocoVariants(const Scene& /*scene*/) {
-  return {variant(Options{}, "default: Newton, Euler")};
+std::vector<Variant> mujocoVariants(const Scene& scene) {
+  std::vector<Variant> out{variant(Options{}, "default: Newton, Euler")};
+  // Mechanisms (joints, no contacts): semi-implicit Euler gains energy on the whipping 10- and
+  // 100-link chains at h = 1/240 and diverges (at 1.6 and 1.4 s), RK4 does not; the 1000:1
+  // chains are stiff (their light links swing about the tension of the heavy one) and diverge at
+  // h = 1/240 with either integrator, but not with RK4 at h / 4. MuJoCo's implicit integrator
+  // (implicit in the velocity-dependent forces only) diverges on the 10-link chain too. The
+  // ragdolls keep Euler alone: they do not diverge. See docs/performance.md.
+  const bool contacts = scene.ground_z.has_value() ||
+                        std::any_of(scene.bodies.begin(), scene.bodies.end(), [](const Body& b) {
+                          return b.shape.kind != Shape::Kind::None;
+                        });
+  if (!scene.joints.empty() && !contacts) {
+    out.push_back(variant(Options{-1, 0, mjINT_RK4, 1}, "Newton, RK4"));
+    out.push_back(variant(Options{-1, 0, mjINT_RK4, 4}, "Newton, RK4, 4 substeps"));
+  }
+  return out;
 }
 
 // PGS is swept, as the other engines' projected Gauss-Seidel or sequential-impulse solvers are;
@@ -545,7 +589,7 @@ std::vector<Variant> mujocoSweep(const Scene& /*scene*/, const std::vector<int>&
   for (int iterations : counts) {
     std::string pgs("PGS, mjOption::iterations = ");
     pgs += std::to_string(iterations);
-    out.push_back(variant(Options{mjSOL_PGS, iterations}, std::move(pgs)));
+    out.push_back(variant(Options{mjSOL_PGS, iterations, mjINT_EULER, 1}, std::move(pgs)));
   }
   return out;
 }
