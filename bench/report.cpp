@@ -167,15 +167,17 @@ std::string paretoTable(const std::vector<Result>& results, bool markdown) {
         note = fmt::format("{} ({} of {} steps: off the front)", note, r->steps, r->steps_planned);
       }
       rows.push_back({r->engine, r->knob.empty() ? r->settings : r->knob,
-                      r->ran ? fmt::format("{:.4g}", r->median_ms) : "-", accuracyText(*r), front,
+                      r->ran ? fmt::format("{:.4g}", r->median_ms) : "-",
+                      r->ran ? fmt::format("{:.4g}", r->mean_ms) : "-", accuracyText(*r), front,
                       note});
     }
     const std::string title =
         fmt::format("{}, accuracy: {} (worst over the run)", key, first.metric);
     out += markdown ? "\n**" + title + "**\n\n" : "\n" + title + "\n";
     out += render(
-        {"engine", "settings (the swept count)", "ms/step", "accuracy", "Pareto front", "note"},
-        rows, [](std::size_t i) { return i == 2 || i == 3; }, markdown);
+        {"engine", "settings (the swept count)", "ms/step (median)", "mean", "accuracy",
+         "Pareto front", "note"},
+        rows, [](std::size_t i) { return i >= 2 && i <= 4; }, markdown);
   }
   return out;
 }

@@ -14,10 +14,11 @@ std::vector<std::string> machineDescription();
 /// The table, fixed-width (markdown = false) or as a Markdown table.
 std::string table(const std::vector<Result>& results, bool markdown);
 
-/// The Pareto table (linx-bench --pareto): per scene, its rows by time, each with its swept count
-/// (Result::knob) and a mark for the Pareto front: the rows that ran every step to a finite
-/// accuracy figure and that no other such row matches in both time and accuracy while beating it
-/// in one (accuracy figures below 1e-9 m count as equal).
+/// The Pareto table (linx-bench --pareto): per scene, its rows by median time, each with its swept
+/// count (Result::knob), its mean time too (the median of a run that sleeps more than half its
+/// steps is a sleeping step's) and a mark for the Pareto front: the rows that ran every step to a
+/// finite accuracy figure and that no other such row matches in both median time and accuracy
+/// while beating it in one (accuracy figures below 1e-9 m count as equal).
 std::string paretoTable(const std::vector<Result>& results, bool markdown);
 
 struct Target {

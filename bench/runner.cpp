@@ -105,6 +105,7 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
     r.steps = static_cast<int>(ms.size());
     std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
     r.median_ms = ms[ms.size() / 2];
+    r.mean_ms = 1e3 * stepping / static_cast<double>(ms.size());
     r.accuracy = accuracy.value();
     r.heap_peak_mib = (heap_peak - heap0) / (1024.0 * 1024.0);
     r.ran = true;

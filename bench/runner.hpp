@@ -22,6 +22,7 @@ struct Result {
   int steps = 0;           ///< steps actually taken
   int steps_planned = 0;
   double median_ms = 0.0;      ///< median wall time of one step (ms)
+  double mean_ms = 0.0;        ///< all the steps' wall time over their number (ms)
   double build_s = 0.0;        ///< wall time to build the scene (s)
   double accuracy = 0.0;       ///< the scene's metric, worst over the run
   double heap_peak_mib = 0.0;  ///< largest heap in use during the run, less the heap before it
