@@ -37,23 +37,30 @@ void GeometricStiffness::measure(std::span<const std::unique_ptr<Joint>> joints,
       for (int c = 0; c < 6; ++c) m[c] += h * k.col(6 * e + c).norm();
     }
   }
+  // What goes beyond the bodies' own masses and inertias (at the poses of the measure).
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    Vec6& k = measured_[i];
+    if (k.isZero(0)) continue;
+    const Body& body = bodies[i];
+    if (body.isStatic()) {
+      k.setZero();
+      continue;
+    }
+    const Mat3 inertia = body.inertiaWorld();
+    for (int c = 0; c < 3; ++c) {
+      k[c] = std::max(0.0, k[c] - body.mass());
+      k[3 + c] = std::max(0.0, k[3 + c] - inertia(c, c));
+    }
+  }
 }
 
-Vec6 GeometricStiffness::added(std::size_t i, const Body& body) const {
-  if (i >= measured_.size() || measured_[i].isZero(0) || body.isStatic()) return Vec6::Zero();
-  const Vec6& k = measured_[i];
-  const Mat3 inertia = body.inertiaWorld();
-  Vec6 a;
-  for (int c = 0; c < 3; ++c) {
-    a[c] = std::max(0.0, k[c] - body.mass());
-    a[3 + c] = std::max(0.0, k[3 + c] - inertia(c, c));
-  }
-  return a;
+Vec6 GeometricStiffness::added(std::size_t i) const {
+  return i < measured_.size() ? measured_[i] : Vec6::Zero();
 }
 
 void GeometricStiffness::stiffen(std::size_t i, const Body& body, solver::SolverBody& b) const {
   if (b.inv_mass <= 0.0) return;
-  const Vec6 a = added(i, body);
+  const Vec6 a = added(i);
   if (a.isZero(0)) return;
   // The solver body's mass is one number: the largest of the three serves.
   b.inv_mass = 1.0 / (1.0 / b.inv_mass + a.head<3>().maxCoeff());
@@ -61,7 +68,7 @@ void GeometricStiffness::stiffen(std::size_t i, const Body& body, solver::Solver
 }
 
 double GeometricStiffness::ownShare(std::size_t i, const Body& body, const Vec3& w) const {
-  const Vec6 a = added(i, body);
+  const Vec6 a = added(i);
   if (a.isZero(0)) return 1.0;
   const double own = w.dot(body.inertiaWorld() * w);
   const double total = own + w.dot(a.tail<3>().cwiseProduct(w));

@@ -36,8 +36,8 @@ class GeometricStiffness {
   /// Forgets the last measure: no body is stiffened.
   void clear() { measured_.clear(); }
   /// What is added to body i's mass (3, the largest serves) and inertia about the world axes (3):
-  /// the measured h^2 |K| beyond the body's own.
-  Vec6 added(std::size_t i, const Body& body) const;
+  /// the measured h^2 |K| beyond the body's own (at the measure's poses).
+  Vec6 added(std::size_t i) const;
   /// The solver body of body i with added() added to its mass and inertia.
   void stiffen(std::size_t i, const Body& body, solver::SolverBody& b) const;
   /// The body's own share of its stiffened inertia about the row direction w (1 when nothing is
@@ -45,7 +45,7 @@ class GeometricStiffness {
   double ownShare(std::size_t i, const Body& body, const Vec3& w) const;
 
  private:
-  std::vector<Vec6> measured_;  // per body: h^2 |K| (linear, angular), world axes
+  std::vector<Vec6> measured_;  // per body: added(), world axes
 };
 
 }  // namespace linx::step
