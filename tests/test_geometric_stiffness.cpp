@@ -3,6 +3,7 @@
 // and fixed joints against the finite differences of their own rows (the default every other type
 // uses), and against the closed form of a pendulum, whose joint force m g holds its bob with the
 // stiffness m g L of gravity's restoring torque.
+#include "random_state.hpp"
 #include "support.hpp"
 
 #include "math/rotation.hpp"
@@ -14,15 +15,8 @@
 namespace linx {
 namespace {
 
-Vec3 randomVec(std::mt19937& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  return Vec3(u(rng), u(rng), u(rng));
-}
-
-BodyState randomState(std::mt19937& rng) {
-  return BodyState{Pose{randomVec(rng, 1.0), math::expMap(randomVec(rng, 2.0))},
-                   randomVec(rng, 1.0), randomVec(rng, 2.0)};
-}
+using test::randomState;
+using test::randomVec;
 
 TEST(GeometricStiffness, ClosedFormsMatchTheRowsFiniteDifferences) {
   std::mt19937 rng(11);

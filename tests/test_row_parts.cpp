@@ -2,6 +2,7 @@
 // differences along the motion u: dphi/dt must equal J u. Rows that are exact (point, linear,
 // the slider's position) must match off the creation pose too; rows exact only at C = 0 (lock,
 // align) are checked there.
+#include "random_state.hpp"
 #include "support.hpp"
 
 #include "joints/row_parts.hpp"
@@ -19,15 +20,8 @@ BodyState advance(const BodyState& s, double dt) {
                    s.v, s.w};
 }
 
-Vec3 randomVec(std::mt19937& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  return Vec3(u(rng), u(rng), u(rng));
-}
-
-BodyState randomState(std::mt19937& rng) {
-  return BodyState{Pose{randomVec(rng, 1.0), math::expMap(randomVec(rng, 2.0))},
-                   randomVec(rng, 1.0), randomVec(rng, 2.0)};
-}
+using test::randomState;
+using test::randomVec;
 
 // Largest |dphi/dt - J u| over the rows a fill function writes.
 template <class Fill>

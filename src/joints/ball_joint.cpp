@@ -23,12 +23,8 @@ std::optional<double> BallJoint::coordinate(const BodyState& b1, const BodyState
 
 Mat12 BallJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,
                            std::span<const double> lambda) const {
-  // Slots 0-2: the point.
-  Vec3 impulse = Vec3::Zero();
-  for (std::size_t m = 0; m < rows.size(); ++m)
-    if ((rows[m].key & 0xff) < 3) impulse += lambda[m] * rows[m].Ja.head<3>();
   Mat12 k = Mat12::Zero();
-  addPointStiffness(Arms::of(frames_, ctx.b1, ctx.b2), impulse, k);
+  addPointStiffness(Arms::of(frames_, ctx.b1, ctx.b2), pointImpulse(rows, lambda), k);
   return k;
 }
 

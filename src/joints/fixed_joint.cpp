@@ -18,12 +18,9 @@ int FixedJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
 
 Mat12 FixedJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,
                             std::span<const double> lambda) const {
-  // Slots 0-2: the point; the lock rows' axes are the world's and do not turn.
-  Vec3 impulse = Vec3::Zero();
-  for (std::size_t m = 0; m < rows.size(); ++m)
-    if ((rows[m].key & 0xff) < 3) impulse += lambda[m] * rows[m].Ja.head<3>();
+  // The lock rows' axes are the world's: they do not turn.
   Mat12 k = Mat12::Zero();
-  addPointStiffness(Arms::of(frames_, ctx.b1, ctx.b2), impulse, k);
+  addPointStiffness(Arms::of(frames_, ctx.b1, ctx.b2), pointImpulse(rows, lambda), k);
   return k;
 }
 

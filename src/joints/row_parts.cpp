@@ -98,6 +98,13 @@ void addPointStiffness(const Arms& arms, const Vec3& impulse, Mat12& k) {
   k.block<3, 3>(9, 9) -= cross(impulse) * cross(arms.r2);
 }
 
+Vec3 pointImpulse(std::span<const Row> rows, std::span<const double> lambda) {
+  Vec3 l = Vec3::Zero();
+  for (std::size_t m = 0; m < rows.size(); ++m)
+    if ((rows[m].key & 0xff) < 3) l += lambda[m] * rows[m].Ja.head<3>();
+  return l;
+}
+
 void addBody2AxisStiffness(const Vec3& torque, Mat12& k) {
   k.block<3, 3>(3, 9) -= cross(torque);
   k.block<3, 3>(9, 9) += cross(torque);

@@ -106,6 +106,8 @@ int limitAndMotorRows(const JointContext& ctx, const JointDef& def, double margi
 /// Point rows with impulse vector l = sum lambda_k e_k: the torques r1 x l and -(r2 x l) turn
 /// with the arms, K(rot 1, rot 1) += [l]x [r1]x and K(rot 2, rot 2) -= [l]x [r2]x.
 void addPointStiffness(const Arms& arms, const Vec3& impulse, Mat12& k);
+/// The impulse vector l of a joint's point rows (slots 0-2, as pointRows writes them).
+Vec3 pointImpulse(std::span<const Row> rows, std::span<const double> lambda);
 /// Rows [0, a | 0, -a] with a fixed in body 2 (align, angular, their limits and motors), torque
 /// tau = sum lambda a: tau and -tau turn with body 2, K(rot 1, rot 2) -= [tau]x and
 /// K(rot 2, rot 2) += [tau]x. (Lock rows' axes are the world's: they do not turn.)
