@@ -32,6 +32,7 @@ int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   pointRows(Arms::of(frames_, ctx.b1, ctx.b2), rows.subspan<0, 3>());
   alignRows(frames_, ctx.b1, ctx.b2, rows.subspan<3, 2>());
   for (int k = 0; k < 5; ++k) rows[k].key = k;
+  if (!def().limits && !def().motor) return 5;  // the angle (an atan2) only serves those
 
   const Vec3 axis = ctx.b2.pose.orientation * frames_.axis2;
   const double theta = *coordinate(ctx.b1, ctx.b2);

@@ -137,11 +137,21 @@ bool movable(const SolverBody& b) {
 
 bool TreeFactorization::analyse(const Problem& p) {
   const std::size_t n = p.rows.size();
-  nodes_.clear();
-  body_node_.assign(p.bodies.size(), -1);
   const auto endOf = [&](int body) {
     return body >= 0 && movable(p.bodies[static_cast<std::size_t>(body)]) ? body : -1;
   };
+  // The analysis depends on the rows' movable ends alone: a mechanism's rows come the same from
+  // one step to the next, and their analysis with them.
+  bool same = analysed_ && ends_.size() == n && analysed_bodies_ == p.bodies.size();
+  for (std::size_t k = 0; k < n && same; ++k)
+    same = ends_[k] == std::pair{endOf(p.rows[k].body_a), endOf(p.rows[k].body_b)};
+  if (same) return true;
+  analysed_ = false;
+  ends_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) ends_[k] = {endOf(p.rows[k].body_a), endOf(p.rows[k].body_b)};
+  analysed_bodies_ = p.bodies.size();
+  nodes_.clear();
+  body_node_.assign(p.bodies.size(), -1);
   const auto bodyNode = [&](int body) {
     int& node = body_node_[static_cast<std::size_t>(body)];
     if (node < 0) {
@@ -268,6 +278,7 @@ bool TreeFactorization::analyse(const Problem& p) {
     node.parent_body =
         node.body < 0 && node.parent >= 0 ? nodes_[static_cast<std::size_t>(node.parent)].body : -1;
   }
+  analysed_ = true;
   return true;
 }
 

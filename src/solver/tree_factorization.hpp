@@ -23,7 +23,8 @@ namespace linx::solver {
 class TreeFactorization {
  public:
   /// Groups the rows by body pair and orders the nodes leaves first. Returns false when the rows
-  /// close a loop (or couple no movable body at all); nothing else may be called then.
+  /// close a loop (or couple no movable body at all); nothing else may be called then. Rows with
+  /// the same movable ends as the last analysis that succeeded keep it.
   bool analyse(const Problem& p);
   /// Factorizes for the rows with free[k] != 0. A row's pivot is shifted by 1e-13 of its diagonal,
   /// so redundant rows stay finite. Returns the number of pivots that are nothing but
@@ -55,6 +56,10 @@ class TreeFactorization {
   std::vector<std::pair<std::uint64_t, int>> pairs_;
   std::vector<int> row_node_, group_of_, dsu_, stack_;
   std::vector<std::uint8_t> seen_;
+  // The last successful analysis: its rows' movable ends and the body count.
+  bool analysed_ = false;
+  std::vector<std::pair<int, int>> ends_;
+  std::size_t analysed_bodies_ = 0;
   std::vector<std::vector<int>> adjacency_;
 };
 
