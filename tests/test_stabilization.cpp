@@ -120,6 +120,16 @@ TEST(PostStabilization, HeavyChainAtTheDefaultsIsStableAndClosed) {
   }
 }
 
+TEST(PostStabilization, HeavyChainWithoutWarmStartKeepsItsStiffness) {
+  // The stiffness is made of the last step's impulses whether or not they start the solve.
+  SolverSettings solver;
+  solver.warm_start = false;
+  World w = hingeChain(10, 1000.0, solver);
+  const ChainRun r = run(w, 480);
+  EXPECT_LT(r.joint_error, 1e-10);
+  EXPECT_LT(r.energy_rise, 0.01 * r.exchanged);
+}
+
 TEST(PostStabilization, JointMovedOpenClosesWithoutAKick) {
   // A rod on a hinge, moved 1 cm off its anchor by hand, without gravity: the first step closes the
   // joint. The rod takes error reduction's speed, erp / h times the error, for that one step (with

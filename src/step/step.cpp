@@ -64,11 +64,18 @@ void prepareRows(const Scene& scene, State& state, double h_joints, double h, bo
   r.joint_rows = r.rows.size();
   r.lambda.assign(r.joint_rows, 0.0);
   if (solver.warm_start) state.joint_warm.load(r.rows, r.lambda);
-  if (solver.geometric_stiffness)
+  if (solver.geometric_stiffness) {
+    // The last impulses, whether or not they start the solve.
+    std::vector<double>& last = state.last_joint_impulses;
+    if (!solver.warm_start) {
+      last.assign(r.joint_rows, 0.0);
+      state.joint_warm.load(r.rows, last);
+    }
     state.geometric_stiffness.measure(scene.joints, scene.bodies, solver, h_joints, r.rows,
-                                      r.lambda);
-  else
+                                      solver.warm_start ? r.lambda : last);
+  } else {
     state.geometric_stiffness.clear();
+  }
   if (curvature && solver.post_stabilization > 0) {
     state.stabilization.beginStep(scene.bodies);
     state.stabilization.addCurvature(scene.bodies, r.rows, true, &state.geometric_stiffness);

@@ -84,6 +84,7 @@ struct State {
   SubstepJoints substep_joints;
   PostStabilization stabilization;
   GeometricStiffness geometric_stiffness;
+  std::vector<double> last_joint_impulses;  // without warm start: the geometric stiffness's
   solver::SoftSolver soft;
   std::vector<solver::SoftSolver::Bounce> bounces;
   std::vector<int> neighbours;
