@@ -272,7 +272,7 @@ TEST(SceneRead, ExamplesLoadAndBuild) {
   const std::vector<std::pair<std::string, std::pair<int, int>>> examples = {
       {"pendulum.json", {1, 1}},      {"double_pendulum.json", {2, 2}},
       {"hinge_chain.json", {10, 10}}, {"slider_incline.json", {1, 1}},
-      {"slider_crank.json", {3, 4}},
+      {"slider_crank.json", {3, 4}},  {"wrecking_ball.json", {10, 9}},
   };
   for (const auto& [file, counts] : examples) {
     SCOPED_TRACE(file);
