@@ -5,6 +5,7 @@
 #include "scene.hpp"
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,12 @@ struct Pose {
   Quat orientation = Quat::Identity();
 };
 
+/// A body's velocity in the world frame: its centre of mass's and its angular velocity.
+struct Twist {
+  Vec3 linear = Vec3::Zero();   ///< centre of mass (m/s)
+  Vec3 angular = Vec3::Zero();  ///< (rad/s)
+};
+
 class Engine {
  public:
   virtual ~Engine() = default;
@@ -31,6 +38,13 @@ class Engine {
   virtual void step() = 0;
   /// The pose of Scene::bodies[i] (static bodies included).
   virtual Pose pose(int i) const = 0;
+  /// The velocity of Scene::bodies[i] at the pose that pose(i) reports (zero for static bodies).
+  /// An adapter that cannot read it correctly keeps this default, NaN, and its energy figure
+  /// (metrics.hpp) reads NaN rather than a wrong number.
+  virtual Twist velocity(int /*i*/) const {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return Twist{Vec3::Constant(nan), Vec3::Constant(nan)};
+  }
   /// Contact points of the last step, where the adapter can tell (for the memory figures).
   virtual std::size_t contactCount() const { return 0; }
 };

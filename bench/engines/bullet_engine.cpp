@@ -330,6 +330,19 @@ class BulletEngine final : public Engine {
     return t.poses[w.link + 1];
   }
 
+  // btRigidBody: its frame is the centre of mass's, and both velocities are in the world frame.
+  // btMultiBody: see updatePoses.
+  Twist velocity(int i) const override {
+    const Where w = where_[i];
+    if (w.tree < 0) {
+      if (!rigid_[i] || scene_.bodies[static_cast<std::size_t>(i)].is_static) return Twist{};
+      return Twist{eig(rigid_[i]->getLinearVelocity()), eig(rigid_[i]->getAngularVelocity())};
+    }
+    const Tree& t = trees_[w.tree];
+    if (t.posed_at != steps_) updatePoses(t);
+    return t.twists[w.link + 1];
+  }
+
  private:
   struct Where {
     int tree = -1;  // index into trees_, -1: a btRigidBody
@@ -340,6 +353,8 @@ class BulletEngine final : public Engine {
     mutable std::vector<Pose> poses;  // [0] base, [k + 1] link k
     mutable btAlignedObjectArray<btQuaternion> world_to_local;
     mutable btAlignedObjectArray<btVector3> origin;
+    mutable std::vector<Twist> twists;  // [0] base, [k + 1] link k
+    mutable btAlignedObjectArray<btVector3> omega, vel;
     mutable long posed_at = -1;
   };
 
@@ -537,7 +552,14 @@ class BulletEngine final : public Engine {
   }
 
   /// The world poses of a tree's base and links from its joint state (the recursion of
-  /// btMultiBody::forwardKinematics, without writing into the multibody).
+  /// btMultiBody::forwardKinematics, without writing into the multibody), and their velocities:
+  /// btMultiBody::compTreeLinkVelocities gives each link's angular velocity and its frame
+  /// origin's velocity in the link's frame, from the base's velocity and the joint rates through
+  /// the same cached parent-to-link rotations and offsets that the poses come from; a link's frame
+  /// origin is its centre of mass, so turned by the link's orientation they are the world-frame
+  /// twist at the centre of mass, at the positions pose() reports (checked on the 10-link chain:
+  /// the kinetic energy agrees with the one from the poses' differences over a step to within the
+  /// differences' own error, and both show the total energy growing).
   void updatePoses(const Tree& t) const {
     const btMultiBody& mb = *t.mb;
     const int nl = mb.getNumLinks();
@@ -553,6 +575,15 @@ class BulletEngine final : public Engine {
     }
     for (int k = 0; k <= nl; ++k)
       t.poses[k] = Pose{eig(t.origin[k]), eig(t.world_to_local[k].inverse())};
+    t.omega.resize(nl + 1);
+    t.vel.resize(nl + 1);
+    t.twists.resize(static_cast<std::size_t>(nl + 1));
+    mb.compTreeLinkVelocities(&t.omega[0], &t.vel[0]);
+    for (int k = 0; k <= nl; ++k) {
+      const btQuaternion to_world = t.world_to_local[k].inverse();
+      t.twists[static_cast<std::size_t>(k)] =
+          Twist{eig(quatRotate(to_world, t.vel[k])), eig(quatRotate(to_world, t.omega[k]))};
+    }
     t.posed_at = steps_;
   }
 

@@ -283,6 +283,14 @@ class DartEngine final : public Engine {
     return Pose{t.translation(), Quat(t.linear())};
   }
 
+  // Both in the world frame (the defaults of their frame arguments); the BodyNode frame's origin
+  // is the centre of mass, and getCOMLinearVelocity() says so whatever the frame.
+  Twist velocity(int i) const override {
+    const dd::BodyNode* b = nodes_[static_cast<std::size_t>(i)];
+    if (!b) return Twist{};
+    return Twist{b->getCOMLinearVelocity(), b->getAngularVelocity()};
+  }
+
   std::size_t contactCount() const override {
     return world_->getLastCollisionResult().getNumContacts();
   }

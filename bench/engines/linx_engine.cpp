@@ -97,6 +97,10 @@ class LinxEngine final : public Engine {
     const linx::Body& b = world_.body(ids_[i]);
     return {b.position(), b.orientation()};
   }
+  Twist velocity(int i) const override {  // linx's body frame is the centre of mass's
+    const linx::Body& b = world_.body(ids_[i]);
+    return {b.linearVelocity(), b.angularVelocity()};
+  }
 
  private:
   static const char* typeName(Joint::Kind kind) {

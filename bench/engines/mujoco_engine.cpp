@@ -227,6 +227,7 @@ class MujocoEngine final : public Engine {
       if (model_->opt.integrator == mjINT_RK4) {
         mj_step(model_.get(), d);  // RK4 only through mj_step: xpos is left from an inner stage
         posed_ = false;
+        moving_ = false;
       } else {
         mj_step2(model_.get(), d);  // Euler, then the next step's positions
         mj_step1(model_.get(), d);
@@ -263,6 +264,30 @@ class MujocoEngine final : public Engine {
     const mjtNum* q = data_->xquat + 4 * id;
     return Pose{Vec3(p[0], p[1], p[2]), Quat(q[0], q[1], q[2], q[3])};
   }
+  // mj_objectVelocity of the body (mjOBJ_BODY: at xipos, its inertial frame, which the MJCF puts
+  // at the body frame's origin, the centre of mass) in the world's orientation (flg_local 0):
+  // (angular, linear). It reads cvel and subtree_com, which mj_step1 leaves current after an Euler
+  // step; after an RK4 step they are an inner stage's, so they are recomputed first (untimed; the
+  // next mj_step computes them again).
+  Twist velocity(int i) const override {
+    if (diverged_) {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      return Twist{Vec3::Constant(nan), Vec3::Constant(nan)};
+    }
+    if (!moving_) {
+      if (!posed_) {
+        mj_kinematics(model_.get(), data_.get());
+        posed_ = true;
+      }
+      mj_comPos(model_.get(), data_.get());
+      mj_comVel(model_.get(), data_.get());
+      moving_ = true;
+    }
+    const int id = body_id_[static_cast<std::size_t>(i)];
+    mjtNum res[6];
+    mj_objectVelocity(model_.get(), data_.get(), mjOBJ_BODY, id, res, 0);
+    return Twist{Vec3(res[3], res[4], res[5]), Vec3(res[0], res[1], res[2])};
+  }
 
  private:
   std::unique_ptr<mjModel, ModelDeleter> model_;
@@ -270,7 +295,8 @@ class MujocoEngine final : public Engine {
   std::vector<int> body_id_;
   bool diverged_ = false;
   int substeps_ = 1;
-  mutable bool posed_ = true;  ///< xpos, xquat are the current positions'
+  mutable bool posed_ = true;   ///< xpos, xquat are the current positions'
+  mutable bool moving_ = true;  ///< cvel, subtree_com are the current state's
 };
 
 /// MuJoCo's default warning handler prints to stdout and appends to MUJOCO_LOG.TXT in the current

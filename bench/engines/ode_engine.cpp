@@ -159,6 +159,7 @@ class OdeEngine final : public Engine {
 
   void step() override;
   Pose pose(int i) const override;
+  Twist velocity(int i) const override;
 
  private:
   static void nearCallback(void* data, dGeomID a, dGeomID b);
@@ -353,6 +354,16 @@ Pose OdeEngine::pose(int i) const {
   const dReal* p = dBodyGetPosition(b);
   const dReal* q = dBodyGetQuaternion(b);
   return Pose{Vec3(p[0], p[1], p[2]), Quat(q[0], q[1], q[2], q[3])};
+}
+
+// The body's position is its centre of mass (dMassSetParameters with the centre at the origin),
+// so dBodyGetLinearVel is the centre of mass's velocity; both are in the world frame.
+Twist OdeEngine::velocity(int i) const {
+  const dBodyID b = bodies_.at(i);
+  if (!b) return Twist{};
+  const dReal* v = dBodyGetLinearVel(b);
+  const dReal* w = dBodyGetAngularVel(b);
+  return Twist{Vec3(v[0], v[1], v[2]), Vec3(w[0], w[1], w[2])};
 }
 
 Variant quickStep(int iterations) {
