@@ -183,4 +183,63 @@ double Accuracy::pistonError(const std::vector<Pose>& poses) const {
   return std::abs(actual - expected);
 }
 
+Energy::Energy(const Scene& scene) : scene_(scene) {
+  poses_.resize(scene.bodies.size());
+  twists_.resize(scene.bodies.size());
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& b = scene.bodies[i];
+    poses_[i] = Pose{b.position, b.orientation};
+    twists_[i] = Twist{b.velocity, b.angular_velocity};
+  }
+  start_ = total(scene, poses_, twists_, &exchanged_);
+  last_ = highest_ = start_;
+}
+
+double Energy::total(const Scene& scene, const std::vector<Pose>& poses,
+                     const std::vector<Twist>& twists, double* kinetic) {
+  double e = 0.0, k = 0.0;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& b = scene.bodies[i];
+    if (b.is_static) continue;
+    const Vec3 w = poses[i].orientation.normalized().conjugate() * twists[i].angular;  // body frame
+    const double ki =
+        0.5 * b.mass * twists[i].linear.squaredNorm() + 0.5 * w.dot(b.inertia.cwiseProduct(w));
+    k += ki;
+    e += ki - b.mass * scene.gravity.dot(poses[i].position);
+  }
+  if (kinetic) *kinetic = k;
+  return e;
+}
+
+void Energy::sample(const Engine& engine) {
+  if (!finite_) return;
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
+    poses_[i] = engine.pose(static_cast<int>(i));
+    twists_[i] = engine.velocity(static_cast<int>(i));
+  }
+  double kinetic = 0.0;
+  const double e = total(scene_, poses_, twists_, &kinetic);
+  if (!std::isfinite(e)) {  // a blown-up engine, or no velocities: say so for good
+    finite_ = false;
+    return;
+  }
+  exchanged_ = std::max(exchanged_, kinetic);
+  highest_ = std::max(highest_, e);
+  last_ = e;
+}
+
+double Energy::percent(double change) const {
+  if (!finite_) return NAN;
+  if (change == 0.0) return 0.0;
+  return 100.0 * change / exchanged_;  // nothing exchanged but a change: +-inf
+}
+
+double Energy::rise() const {
+  return percent(highest_ - start_);
+}
+
+double Energy::end() const {
+  return percent(last_ - start_);
+}
+
 }  // namespace bench

@@ -40,4 +40,34 @@ class Accuracy {
   double worst_ = 0.0;
 };
 
+/// The energy figure of a scene that conserves energy (Scene::energy): the total energy E, the
+/// sum over dynamic bodies of 1/2 m v.v + 1/2 w.(R I R^T) w - m g.x (v the centre of mass's
+/// velocity, w the angular velocity, R the orientation, I the body-frame principal inertia, x the
+/// centre of mass, g the scene's gravity), against E0, its value in the scene's initial state.
+/// Both figures are in percent of the energy exchanged, the largest kinetic energy seen (at the
+/// start or at a sample): rise(), the largest E - E0 over the samples (the start included, so
+/// never below zero), and end(), E - E0 at the last sample. A sample with a non-finite pose or
+/// velocity (a blown-up engine, or an adapter that cannot read velocities) makes both NaN for good.
+class Energy {
+ public:
+  explicit Energy(const Scene& scene);
+  /// Reads every body's pose and velocity from the engine and updates the figures.
+  void sample(const Engine& engine);
+  double rise() const;
+  double end() const;
+  /// The total energy of the scene's dynamic bodies at the given poses and velocities (J);
+  /// `kinetic`, when given, receives its kinetic part.
+  static double total(const Scene& scene, const std::vector<Pose>& poses,
+                      const std::vector<Twist>& twists, double* kinetic = nullptr);
+
+ private:
+  double percent(double change) const;
+
+  const Scene& scene_;
+  std::vector<Pose> poses_;
+  std::vector<Twist> twists_;
+  double start_ = 0.0, exchanged_ = 0.0, highest_ = 0.0, last_ = 0.0;
+  bool finite_ = true;
+};
+
 }  // namespace bench

@@ -23,6 +23,15 @@ std::string accuracyText(const Result& r) {
   return fmt::format("{:.2e} m", r.accuracy);
 }
 
+/// The energy figures of a chain row: "+0.0 % / -5.9 %" (the largest rise / the change at the
+/// end, percent of the energy exchanged); empty for scenes without them.
+std::string energyText(const Result& r) {
+  if (!r.has_energy) return "";
+  if (!r.ran) return "-";
+  if (std::isnan(r.energy_rise) || std::isnan(r.energy_end)) return "NaN";
+  return fmt::format("{:+.1f} % / {:+.1f} %", r.energy_rise, r.energy_end);
+}
+
 bool asAccurate(double a, double b) {  // a at least as good as b
   if (std::isnan(a)) return false;
   if (std::isnan(b)) return true;
@@ -106,9 +115,8 @@ std::vector<std::string> machineDescription() {
 }
 
 std::string table(const std::vector<Result>& results, bool markdown) {
-  const std::vector<std::string> head = {"scene",       "size",     "engine",
-                                         "settings",    "ms/step",  "accuracy",
-                                         "time / linx", "heap MiB", "note"};
+  const std::vector<std::string> head = {"scene",    "size",   "engine",      "settings", "ms/step",
+                                         "accuracy", "energy", "time / linx", "heap MiB", "note"};
   std::vector<std::vector<std::string>> rows;
   for (const Result& r : results) {
     const Result* lx = linxOf(results, r);
@@ -120,11 +128,12 @@ std::string table(const std::vector<Result>& results, bool markdown) {
       note = fmt::format("{} ({} of {} steps)", note, r.steps, r.steps_planned);
     }
     rows.push_back({r.scene, r.size, r.engine, r.settings,
-                    r.ran ? fmt::format("{:.4g}", r.median_ms) : "-", accuracyText(r), ratio,
-                    r.ran ? fmt::format("{:.1f}", r.heap_peak_mib) : "-", note});
+                    r.ran ? fmt::format("{:.4g}", r.median_ms) : "-", accuracyText(r),
+                    energyText(r), ratio, r.ran ? fmt::format("{:.1f}", r.heap_peak_mib) : "-",
+                    note});
   }
   return render(
-      head, rows, [](std::size_t i) { return i >= 4 && i <= 7; }, markdown);
+      head, rows, [](std::size_t i) { return i >= 4 && i <= 8; }, markdown);
 }
 
 std::string paretoTable(const std::vector<Result>& results, bool markdown) {
@@ -235,6 +244,18 @@ std::vector<Target> targets(const std::vector<Result>& results) {
     if (lx->scene == "chain" || lx->scene == "heavy chain") {
       out.push_back({lx->accuracy < 1e-4, true,
                      fmt::format("{}: joint separation {} below 1e-4 m", key, accuracyText(*lx))});
+    }
+    if (lx->scene == "heavy chain" && lx->reference && lx->has_energy) {
+      // The "energy never above its start by more than 1 % of the energy exchanged".
+      const bool finished = lx->steps == lx->steps_planned;
+      std::string text =
+          fmt::format("{}: energy rise {} of the energy exchanged vs 1 %", key,
+                      std::isnan(lx->energy_rise) ? std::string("NaN")
+                                                  : fmt::format("{:.3g} %", lx->energy_rise));
+      if (!finished)
+        text +=
+            fmt::format(" (after only {} of {} steps: the budget)", lx->steps, lx->steps_planned);
+      out.push_back({finished && lx->energy_rise <= 1.0, true, std::move(text)});
     }
     if (lx->scene == "pyramid") {
       out.push_back(

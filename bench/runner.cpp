@@ -69,6 +69,7 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
     heap_peak = std::max(heap_peak, heapInUse());
 
     Accuracy accuracy(scene);
+    Energy energy(scene);
     std::vector<double> ms;
     ms.reserve(static_cast<std::size_t>(scene.steps));
     r.fingerprints.reserve(static_cast<std::size_t>(scene.steps));
@@ -91,6 +92,7 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
       }
       if (accuracy.due(s) || stepping > budget_s) {
         accuracy.sample(*engine);
+        if (scene.energy) energy.sample(*engine);
         const double heap = heapInUse();
         if (heap > heap_peak) {
           heap_peak = heap;
@@ -107,6 +109,9 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
     r.median_ms = ms[ms.size() / 2];
     r.mean_ms = 1e3 * stepping / static_cast<double>(ms.size());
     r.accuracy = accuracy.value();
+    r.has_energy = scene.energy;
+    r.energy_rise = energy.rise();
+    r.energy_end = energy.end();
     r.heap_peak_mib = (heap_peak - heap0) / (1024.0 * 1024.0);
     r.ran = true;
     engine.reset();

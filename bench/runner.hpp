@@ -21,10 +21,14 @@ struct Result {
   std::string note;        ///< why it did not run, or that it stopped at the time budget
   int steps = 0;           ///< steps actually taken
   int steps_planned = 0;
-  double median_ms = 0.0;      ///< median wall time of one step (ms)
-  double mean_ms = 0.0;        ///< all the steps' wall time over their number (ms)
-  double build_s = 0.0;        ///< wall time to build the scene (s)
-  double accuracy = 0.0;       ///< the scene's metric, worst over the run
+  double median_ms = 0.0;  ///< median wall time of one step (ms)
+  double mean_ms = 0.0;    ///< all the steps' wall time over their number (ms)
+  double build_s = 0.0;    ///< wall time to build the scene (s)
+  double accuracy = 0.0;   ///< the scene's metric, worst over the run
+  /// Scene::energy: the energy figures (Energy::rise() and end(), percent of the energy
+  /// exchanged), sampled with the accuracy; NaN when the engine blew up or gives no velocities.
+  bool has_energy = false;
+  double energy_rise = 0.0, energy_end = 0.0;
   double heap_peak_mib = 0.0;  ///< largest heap in use during the run, less the heap before it
   /// The heap after the first step and the contact points then, and the contact points when the
   /// peak was seen: two points that split the heap into a part per body and a part per contact.

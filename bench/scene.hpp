@@ -77,6 +77,10 @@ struct Scene {
   std::vector<Body> bodies;
   std::vector<Joint> joints;
   Metric metric = Metric::JointSeparation;
+  /// Whether the table shows the energy figure (metrics.hpp): set on scenes whose total energy,
+  /// kinetic plus gravitational potential, stays constant in exact dynamics (no contacts, nothing
+  /// driven or limited, no damping): the hinge chains.
+  bool energy = false;
   /// Bodies joined by a joint never collide with each other (in every engine).
   int slider_crank_crank = -1, slider_crank_piston = -1;  ///< PistonError: body indices
   double crank_radius = 0.0, rod_length = 0.0;            ///< PistonError: r and l (m)

@@ -96,6 +96,62 @@ TEST(BenchMetrics, PistonErrorIsZeroOnTheClosedForm) {
   EXPECT_NEAR(a.value(), 0.001, 1e-12);
 }
 
+// An engine whose poses and velocities come from the test.
+class FixedStates final : public Engine {
+ public:
+  explicit FixedStates(const Scene& s) {
+    for (const Body& b : s.bodies) {
+      poses.push_back({b.position, b.orientation});
+      twists.push_back({b.velocity, b.angular_velocity});
+    }
+  }
+  void step() override {}
+  Pose pose(int i) const override { return poses[static_cast<std::size_t>(i)]; }
+  Twist velocity(int i) const override { return twists[static_cast<std::size_t>(i)]; }
+  std::vector<Pose> poses;
+  std::vector<Twist> twists;
+};
+
+// One link of the chain, hanging straight down from its hinge at the origin and turning about y:
+// released at rest level with the hinge, it has lost m g r of potential energy (r = 0.05 m, its
+// centre's drop), which is all kinetic at w^2 = 2 m g r / (m r^2 + I_yy).
+TEST(BenchMetrics, EnergyIsKineticPlusPotentialAgainstTheStart) {
+  const Scene s = hingeChain(1);
+  ASSERT_TRUE(s.energy);
+  const Body& b = s.bodies[0];
+  const double g = 9.81, r = 0.05;
+  const double w = std::sqrt(2.0 * b.mass * g * r / (b.mass * r * r + b.inertia.y()));
+  FixedStates e(s);
+  Energy a(s);
+  a.sample(e);
+  EXPECT_EQ(a.rise(), 0.0);
+  EXPECT_EQ(a.end(), 0.0);
+  e.poses[0].position = Vec3(0.0, 0.0, -r);
+  e.poses[0].orientation = Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitY()));
+  e.twists[0].angular = Vec3(0.0, w, 0.0);
+  e.twists[0].linear = e.twists[0].angular.cross(e.poses[0].position);
+  a.sample(e);
+  EXPECT_NEAR(a.rise(), 0.0, 1e-12);
+  EXPECT_NEAR(a.end(), 0.0, 1e-12);
+  // 2 % more kinetic energy: a rise of 0.02 / 1.02 of the largest kinetic energy.
+  e.twists[0].angular *= std::sqrt(1.02);
+  e.twists[0].linear *= std::sqrt(1.02);
+  a.sample(e);
+  EXPECT_NEAR(a.rise(), 100.0 * 0.02 / 1.02, 1e-9);
+  // Back at the start, at rest: the end change is zero, the rise stays.
+  e.poses[0] = {b.position, b.orientation};
+  e.twists[0] = {};
+  a.sample(e);
+  EXPECT_NEAR(a.rise(), 100.0 * 0.02 / 1.02, 1e-9);
+  EXPECT_NEAR(a.end(), 0.0, 1e-12);
+  // An engine without velocities (the default) reads NaN, for good.
+  FixedPoses f(s);
+  a.sample(f);
+  EXPECT_TRUE(std::isnan(a.rise()));
+  a.sample(e);
+  EXPECT_TRUE(std::isnan(a.end()));
+}
+
 TEST(BenchScenes, SizesAreAsStated) {
   EXPECT_EQ(pyramid(100).bodies.size(), 5050u);
   EXPECT_EQ(pouredSpheres(1000).bodies.size(), 1005u);  // five static walls
@@ -119,6 +175,23 @@ TEST(BenchLinx, SliderCrankPistonFollowsTheClosedForm) {
     std::printf("%s: piston error %.2e m\n", v.settings.c_str(), r.accuracy);
     EXPECT_LT(r.accuracy, 1e-4) << v.settings;
   }
+}
+
+// The chains' energy figure through linx's adapter: present, finite, and no rise of a percent in
+// a quarter of a second of the 10-link chain.
+TEST(BenchLinx, ChainEnergyIsMeasured) {
+  Scene s = hingeChain(10);
+  s.steps = 60;
+  const Result r = run(s, linxVariants(s).front(), 60.0);
+  ASSERT_TRUE(r.ran) << r.note;
+  ASSERT_TRUE(r.has_energy);
+  std::printf("10-link chain after 0.25 s: energy rise %.3g %%, end %.3g %%\n", r.energy_rise,
+              r.energy_end);
+  EXPECT_TRUE(std::isfinite(r.energy_rise) && std::isfinite(r.energy_end));
+  EXPECT_LT(r.energy_rise, 1.0);
+  Scene p = pyramid(2);
+  p.steps = 5;
+  EXPECT_FALSE(run(p, linxVariants(p).front(), 60.0).has_energy) << "contacts: no energy figure";
 }
 
 TEST(BenchLinx, SmallPyramidStandsForOneSecond) {
