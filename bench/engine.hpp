@@ -57,9 +57,11 @@ struct Variant {
   std::function<std::unique_ptr<Engine>(const Scene&)> make;
   /// The linx row that the table's time ratios of this scene are taken against.
   bool reference = false;
-  /// Worker threads (linx): a row with more than one is checked against the reference row for
+  /// Worker threads (linx): a row with more than one is checked against its one-thread row for
   /// identical results and its speed-up.
   int threads = 1;
+  /// That one-thread row's settings (empty: the reference row).
+  std::string one_thread = {};
   /// The Pareto table's short label (--pareto): the solver, and the setting its count sweeps.
   std::string knob = {};
 };

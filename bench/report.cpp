@@ -312,13 +312,21 @@ std::vector<Target> targets(const std::vector<Result>& results) {
   for (const Result& many : results) {
     if (!many.is_linx || many.threads <= 1 || !many.ran) continue;
     const Result* one = linxOf(results, many);
+    if (!many.one_thread.empty()) {
+      one = nullptr;
+      for (const Result& x : results)
+        if (x.ran && x.is_linx && x.scene == many.scene && x.size == many.size &&
+            x.settings == many.one_thread)
+          one = &x;
+    }
     if (!one || one->threads != 1) continue;
     const std::size_t common = std::min(one->fingerprints.size(), many.fingerprints.size());
     std::size_t same = 0;
     while (same < common && one->fingerprints[same] == many.fingerprints[same]) ++same;
     const bool identical = common > 0 && same == common;
     const double speedup = one->median_ms / many.median_ms;
-    const std::string key = many.scene + " " + many.size;
+    const std::string key =
+        many.scene + " " + many.size + (many.one_thread.empty() ? "" : " (" + one->settings + ")");
     const std::string what = identical
                                  ? fmt::format("identical poses over all {} steps both ran", common)
                                  : fmt::format("poses differ from step {}", same + 1);

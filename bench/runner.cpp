@@ -60,6 +60,7 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
   r.steps_planned = scene.steps;
   r.bodies = static_cast<int>(scene.bodies.size());
   r.threads = variant.threads;
+  r.one_thread = variant.one_thread;
   try {
     const double heap0 = heapInUse();
     double heap_peak = heap0;

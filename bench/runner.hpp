@@ -36,6 +36,7 @@ struct Result {
   std::size_t contacts_first = 0, contacts_at_peak = 0;
   int bodies = 0;
   int threads = 1;
+  std::string one_thread;  ///< the one-thread row a row on more threads is checked against
   /// linx rows: a hash of every body's pose after each step, to compare thread counts.
   std::vector<std::uint64_t> fingerprints;
 };

@@ -121,7 +121,8 @@ TEST(SoftStep, StacksStand) {
   }
 }
 
-// The soft step's sweep is serial and every other stage gives the same result on any thread
+// The soft step's sweeps split each colour of the contact graph over the threads (hundreds of
+// contacts a colour in this pile), and every other stage gives the same result on any thread
 // count: a pile of 600 balls poured into a heap steps to the same state on 1 and 2 threads.
 TEST(SoftStep, SameStateForAnyThreadCount) {
   const auto pile = [](int threads) {

@@ -159,16 +159,16 @@ Variant defaultRow(const Scene& scene) {
   return v;
 }
 
-/// The soft step (docs/solver.md), one thread: rows prepared once, `substeps` substeps of one
-/// sweep each.
-Variant softStep(int substeps) {
+/// The soft step (docs/solver.md): rows prepared once, `substeps` substeps of one sweep each.
+Variant softStep(int substeps, int threads = 1) {
   linx::SolverSettings soft;
   soft.type = linx::SolverType::Soft;
   soft.substeps = substeps;
   std::string settings("soft step, ");
   settings += std::to_string(substeps);
   settings += substeps == 1 ? " substep" : " substeps";
-  Variant v = variant(settings, soft, false);
+  if (threads > 1) settings += ", " + std::to_string(threads) + " threads";
+  Variant v = variant(settings, soft, false, threads);
   std::string knob("soft step, SolverSettings::substeps = ");
   knob += std::to_string(substeps);
   v.knob = std::move(knob);
@@ -188,6 +188,11 @@ std::vector<Variant> linxVariants(const Scene& scene) {
       out.push_back(variant(out.front().settings + ", " + std::to_string(cores) + " threads",
                             defaults, false, cores));
     out.push_back(softStep(4));
+    if (cores > 1) {  // its sweeps split over the threads by colour
+      Variant threaded = softStep(4, cores);
+      threaded.one_thread = out.back().settings;
+      out.push_back(std::move(threaded));
+    }
     return out;
   }
   // Mechanisms: the default (exact, then the joints' post-stabilization), without the

@@ -7,6 +7,9 @@ namespace linx::dynamics {
 Vec3 gyroscopicStep(const Mat3& inertia, const Vec3& w0, double h) {
   // Solve F(w1) = I (w1 - w0) + h wm x (I wm) = 0, wm = (w0 + w1) / 2, by Newton from w1 = w0.
   // dF/dw1 = I + h/2 ([wm]x I - [I wm]x). Converges in a few iterations while h |w| is moderate.
+  // An isotropic inertia (a sphere, a cube) has no gyroscopic torque: w1 = w0.
+  if (inertia.isDiagonal(0.0) && inertia(0, 0) == inertia(1, 1) && inertia(1, 1) == inertia(2, 2))
+    return w0;
   Vec3 w1 = w0;
   for (int it = 0; it < 8; ++it) {
     const Vec3 wm = 0.5 * (w0 + w1);

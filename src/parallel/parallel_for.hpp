@@ -57,4 +57,34 @@ void forEachTask(std::ptrdiff_t tasks, int threads, Task&& task) {
   if (error) std::rethrow_exception(error);
 }
 
+/// Calls body(phase, i) for every i in [0, size(phase)) of each phase in [0, phases), the phases
+/// one after the other (a graph colouring's colours): each phase's items split over `threads`
+/// threads in static chunks, one team for all phases, a barrier between phases. A phase of fewer
+/// than `grain` items runs on one thread. body(phase, i) must write only what belongs to i within
+/// its phase, and size(phase) must not depend on what the bodies write. An exception thrown by
+/// body is rethrown here.
+template <class Size, class Body>
+void forEachInPhases(int phases, int threads, std::ptrdiff_t grain, Size&& size, Body&& body) {
+  bool wide = false;
+  for (int p = 0; p < phases && threads > 1; ++p) wide = wide || size(p) >= grain;
+  if (!wide) {
+    for (int p = 0; p < phases; ++p)
+      for (std::ptrdiff_t i = 0, n = size(p); i < n; ++i) body(p, i);
+    return;
+  }
+  std::exception_ptr error;
+#pragma omp parallel num_threads(threads)
+  for (int p = 0; p < phases; ++p) {
+    const std::ptrdiff_t n = size(p);
+    if (n < grain) {
+#pragma omp single
+      for (std::ptrdiff_t i = 0; i < n; ++i) keepFirstError(error, [&] { body(p, i); });
+    } else {
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) keepFirstError(error, [&] { body(p, i); });
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
 }  // namespace linx::parallel

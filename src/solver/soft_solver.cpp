@@ -1,12 +1,28 @@
 #include "solver/soft_solver.hpp"
 
+#include "parallel/parallel_for.hpp"
 #include "solver/row_system.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace linx::solver {
+
+namespace {
+
+/// Colours a block may take (one bit each in a body's mask); the blocks beyond overflow.
+constexpr int kColours = 64;
+/// Blocks of a colour from which it is split over the threads.
+constexpr std::ptrdiff_t kParallelBlocks = 32;
+
+bool takesImpulses(const SoftSolver::Body& b) {
+  return b.inv_mass > 0.0 || !b.inv_inertia.isZero(0.0);
+}
+
+}  // namespace
 
 Softness Softness::of(double hertz, double damping_ratio, double h) {
   if (!(hertz > 0.0)) return Softness{};
@@ -85,6 +101,8 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
     c.unilateral = r.kind == RowKind::Unilateral;
     c.positional = r.kind == RowKind::Bilateral || c.unilateral;
     c.rate0 = 0.0;
+    c.moves_a = c.a != none && takesImpulses(a);
+    c.moves_b = c.b != none && takesImpulses(b);
     rows_.push_back(c);
     rows_.back().rate0 = rate(rows_.back());
     compact_[k] = static_cast<int>(index_.size());
@@ -114,7 +132,90 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
       c.group = normal >= 0 ? rows_[static_cast<std::size_t>(normal)].group : -1;
     }
   units_.push_back(static_cast<int>(rows_.size()));
+  colour();
   sweeps_ = 0;
+}
+
+void SoftSolver::colour() {
+  // Blocks: runs of units of one manifold (the same two bodies), or a unit alone.
+  blocks_.clear();
+  const std::size_t units = units_.size() - 1;
+  const auto first = [&](std::size_t u) -> const CompactRow& {
+    return rows_[static_cast<std::size_t>(units_[u])];
+  };
+  for (std::size_t u = 0; u < units; ++u) {
+    const CompactRow& c = first(u);
+    const bool joins = u > 0 && c.group >= 0 && first(u - 1).group == c.group &&
+                       first(u - 1).a == c.a && first(u - 1).b == c.b;
+    if (!joins) blocks_.push_back(static_cast<int>(u));
+  }
+  const std::size_t blocks = blocks_.size();
+  blocks_.push_back(static_cast<int>(units));
+  // First fit: a block takes the lowest colour that none of its moving bodies has yet; one with a
+  // static or kinematic end starts at colour 1 (Box2D v3), so the contacts between moving bodies
+  // are solved first and those holding them up after.
+  std::vector<std::uint64_t> used(bodies_.size(), 0);
+  std::vector<int> colour_of(blocks);
+  std::vector<int> count(kColours + 1, 0);
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const CompactRow& c = first(static_cast<std::size_t>(blocks_[k]));
+    std::uint64_t taken = 0;
+    if (c.moves_a) taken |= used[static_cast<std::size_t>(c.a)];
+    if (c.moves_b) taken |= used[static_cast<std::size_t>(c.b)];
+    if (!(c.moves_a && c.moves_b)) taken |= 1;
+    const int free = std::countr_one(taken);  // kColours when every colour is taken
+    colour_of[k] = free;
+    ++count[static_cast<std::size_t>(free)];
+    if (free == kColours) continue;
+    const std::uint64_t bit = std::uint64_t{1} << free;
+    if (c.moves_a) used[static_cast<std::size_t>(c.a)] |= bit;
+    if (c.moves_b) used[static_cast<std::size_t>(c.b)] |= bit;
+  }
+  // Colours in use (empty ones dropped), then the overflow set; blocks in order within each.
+  std::vector<int> slot(kColours + 1, -1);
+  colour_start_.assign(1, 0);
+  for (int c = 0; c <= kColours; ++c) {
+    if (count[static_cast<std::size_t>(c)] == 0 && c < kColours) continue;
+    slot[static_cast<std::size_t>(c)] = static_cast<int>(colour_start_.size()) - 1;
+    colour_start_.push_back(colour_start_.back() + count[static_cast<std::size_t>(c)]);
+  }
+  std::vector<int> next(colour_start_.begin(), colour_start_.end() - 1);
+  coloured_.resize(blocks);
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const int s = slot[static_cast<std::size_t>(colour_of[k])];
+    coloured_[static_cast<std::size_t>(next[static_cast<std::size_t>(s)]++)] = static_cast<int>(k);
+  }
+}
+
+int SoftSolver::overflowRows() const {
+  int rows = 0;
+  for (int i = colour_start_[colour_start_.size() - 2]; i < colour_start_.back(); ++i) {
+    const auto k = static_cast<std::size_t>(coloured_[static_cast<std::size_t>(i)]);
+    rows += units_[static_cast<std::size_t>(blocks_[k + 1])] -
+            units_[static_cast<std::size_t>(blocks_[k])];
+  }
+  return rows;
+}
+
+template <class F>
+void SoftSolver::eachBlock(bool forward, F&& block) {
+  const int colours = this->colours();
+  const auto colourAt = [&](int phase) {
+    return static_cast<std::size_t>(forward ? phase : colours - 1 - phase);
+  };
+  parallel::forEachInPhases(
+      colours, settings_.threads, kParallelBlocks,
+      [&](int phase) {
+        const std::size_t c = colourAt(phase);
+        return static_cast<std::ptrdiff_t>(colour_start_[c + 1] - colour_start_[c]);
+      },
+      [&](int phase, std::ptrdiff_t i) {
+        block(static_cast<std::size_t>(
+            coloured_[static_cast<std::size_t>(colour_start_[colourAt(phase)] + i)]));
+      });
+  const auto overflow = static_cast<std::size_t>(colours);
+  for (int i = colour_start_[overflow]; i < colour_start_[overflow + 1]; ++i)
+    block(static_cast<std::size_t>(coloured_[static_cast<std::size_t>(i)]));
 }
 
 double SoftSolver::phi(const CompactRow& c) const {
@@ -130,13 +231,13 @@ double SoftSolver::rate(const CompactRow& c) const {
 }
 
 void SoftSolver::apply(const CompactRow& c, double delta) {
-  const int none = static_cast<int>(bodies_.size()) - 1;
-  if (c.a != none) {
+  // Only moving ends are written: a colour's blocks share the static and kinematic bodies.
+  if (c.moves_a) {
     Body& a = bodies_[static_cast<std::size_t>(c.a)];
     a.v += delta * c.wa_v;
     a.w += delta * c.wa_w;
   }
-  if (c.b != none) {
+  if (c.moves_b) {
     Body& b = bodies_[static_cast<std::size_t>(c.b)];
     b.v += delta * c.wb_v;
     b.w += delta * c.wb_w;
@@ -151,49 +252,60 @@ void SoftSolver::move(double h) {
 }
 
 void SoftSolver::warmStart() {
-  for (std::size_t i = 0; i < rows_.size(); ++i) {
-    const double l = lambda_[static_cast<std::size_t>(index_[i])];
-    if (l != 0.0) apply(rows_[i], l);
-  }
+  eachBlock(true, [&](std::size_t k) {
+    const auto end = static_cast<std::size_t>(units_[static_cast<std::size_t>(blocks_[k + 1])]);
+    for (auto i = static_cast<std::size_t>(units_[static_cast<std::size_t>(blocks_[k])]); i < end;
+         ++i) {
+      const double l = lambda_[static_cast<std::size_t>(index_[i])];
+      if (l != 0.0) apply(rows_[i], l);
+    }
+  });
 }
 
 void SoftSolver::sweep(bool bias) {
-  const double h = settings_.h;
-  // Every other sweep visits the units (a row, or a contact point's normal and friction rows)
-  // backwards, each unit's rows still in order: a one-way sweep leaves a bias towards the rows it
-  // visits last, which walks a stack sideways.
+  // Every other sweep visits the colours, and each manifold's contact points, backwards (each
+  // point's rows still in order): a one-way sweep leaves a bias towards the rows it visits last,
+  // which walks a stack sideways.
   const bool forward = (sweeps_++ % 2) == 0;
-  const std::size_t units = units_.size() - 1;
-  for (std::size_t visit = 0; visit < units; ++visit) {
-    const std::size_t u = forward ? visit : units - 1 - visit;
-    for (auto i = static_cast<std::size_t>(units_[u]); i < static_cast<std::size_t>(units_[u + 1]);
-         ++i) {
-      const CompactRow& c = rows_[i];
-      double& l = lambda_[static_cast<std::size_t>(index_[i])];
-      double lo = c.lo, hi = c.hi;
-      if (c.friction && c.normal >= 0) {
-        hi = frictionBound(c);
-        lo = -hi;
-      }
-      double target = 0.0;  // the bias velocity
-      double mass_scale = 1.0, impulse_scale = 0.0;
-      if (c.positional) {
-        const double error = phi(c);
-        if (c.unilateral && error > 0.0) {
-          target = error / h;  // a gap: it may close within the substep, no further
-        } else if (bias) {
-          const Softness& soft = settings_.contact;
-          target = soft.bias_rate * error;
-          target = std::max(target, -settings_.max_push_out);
-          mass_scale = soft.mass_scale;
-          impulse_scale = soft.impulse_scale;
-        }
-      }
-      const double delta = -c.mass * mass_scale * (rate(c) - c.speed + target) - impulse_scale * l;
-      const double next = std::clamp(l + delta, lo, hi);
-      apply(c, next - l);
-      l = next;
+  eachBlock(forward, [&](std::size_t k) {
+    const auto begin = static_cast<std::size_t>(blocks_[k]);
+    const auto end = static_cast<std::size_t>(blocks_[k + 1]);
+    for (std::size_t visit = begin; visit < end; ++visit)
+      solveUnit(forward ? visit : end - 1 - (visit - begin), bias);
+  });
+}
+
+void SoftSolver::solveUnit(std::size_t u, bool bias) {
+  const double h = settings_.h;
+  double bound = -1.0;  // the friction rows' bound, once the unit's normal row is solved
+  for (auto i = static_cast<std::size_t>(units_[u]); i < static_cast<std::size_t>(units_[u + 1]);
+       ++i) {
+    const CompactRow& c = rows_[i];
+    double& l = lambda_[static_cast<std::size_t>(index_[i])];
+    double lo = c.lo, hi = c.hi;
+    if (c.friction && c.normal >= 0) {
+      if (bound < 0.0) bound = frictionBound(c);
+      hi = bound;
+      lo = -hi;
     }
+    double target = 0.0;  // the bias velocity
+    double mass_scale = 1.0, impulse_scale = 0.0;
+    if (c.positional) {
+      const double error = phi(c);
+      if (c.unilateral && error > 0.0) {
+        target = error / h;  // a gap: it may close within the substep, no further
+      } else if (bias) {
+        const Softness& soft = settings_.contact;
+        target = soft.bias_rate * error;
+        target = std::max(target, -settings_.max_push_out);
+        mass_scale = soft.mass_scale;
+        impulse_scale = soft.impulse_scale;
+      }
+    }
+    const double delta = -c.mass * mass_scale * (rate(c) - c.speed + target) - impulse_scale * l;
+    const double next = std::clamp(l + delta, lo, hi);
+    apply(c, next - l);
+    l = next;
   }
 }
 

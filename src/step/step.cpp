@@ -192,7 +192,8 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   const double eighth = 0.125 / h;
   const double contact_hertz = contacts.hertz > 0.0 ? std::min(contacts.hertz, eighth) : eighth;
   const solver::SoftSolver::Settings soft{
-      solver::Softness::of(contact_hertz, contacts.damping_ratio, h), contacts.max_push_out, h, n};
+      solver::Softness::of(contact_hertz, contacts.damping_ratio, h), contacts.max_push_out, h, n,
+      scene.threads};
   solver::SoftSolver& solver = state.soft;
   solver.prepare(rows, state.rows.lambda, active, manifold, state.solver_bodies, soft);
   const std::span<solver::SoftSolver::Body> bodies = solver.bodies();
