@@ -4,6 +4,7 @@
 #include "solver/row_system.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -66,134 +67,148 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
            j < n && rows[j].kind == RowKind::Friction && rows[j].normal == static_cast<int>(k); ++j)
         order_.push_back(static_cast<int>(j));
   }
-  compact_.assign(n, -1);
   for (std::size_t k = 0; k < n; ++k)  // a sleeping row keeps its impulse, in every substep
     total_[k] = active[k] ? 0.0 : lambda_[k] * settings.substeps;
+  // Units (a contact point's rows, or a row alone) and blocks (a manifold's units, or a unit
+  // alone) of the rows that act, by positions in order_.
+  std::vector<int>& units = unit_scratch_;
+  units.clear();
+  std::size_t kept = 0;
   for (const int ok : order_) {
     const auto k = static_cast<std::size_t>(ok);
     const Row& r = rows[k];
     if (!active[k] || (r.body_a < 0 && r.body_b < 0)) continue;
-    if (!(r.kind == RowKind::Friction && r.normal >= 0))
+    if (!(r.kind == RowKind::Friction && r.normal >= 0)) units.push_back(static_cast<int>(kept));
+    order_[kept++] = ok;
+  }
+  order_.resize(kept);
+  units.push_back(static_cast<int>(kept));
+  std::vector<int>& blocks = block_scratch_;
+  blocks.clear();
+  for (std::size_t u = 0; u + 1 < units.size(); ++u) {
+    const auto first = [&](std::size_t unit) -> std::size_t {
+      return static_cast<std::size_t>(order_[static_cast<std::size_t>(units[unit])]);
+    };
+    const std::size_t k = first(u);
+    const bool joins = u > 0 && manifold[k] >= 0 && manifold[first(u - 1)] == manifold[k] &&
+                       rows[first(u - 1)].body_a == rows[k].body_a &&
+                       rows[first(u - 1)].body_b == rows[k].body_b;
+    if (!joins) blocks.push_back(static_cast<int>(u));
+  }
+  blocks.push_back(static_cast<int>(units.size()) - 1);
+  // The compact rows, block by block in sweep order (colour by colour): a sweep reads them in
+  // the order they are stored. In the order they came, a colour's rows lay scattered and nearly
+  // every row a sweep read missed the cache (measured on 1,000 spheres).
+  rows_.clear();
+  index_.clear();
+  units_.clear();
+  blocks_.clear();
+  compact_.assign(n, -1);
+  for (const int block : colour(rows, units, blocks)) {
+    blocks_.push_back(static_cast<int>(units_.size()));
+    const auto b = static_cast<std::size_t>(block);
+    for (auto u = static_cast<std::size_t>(blocks[b]); u < static_cast<std::size_t>(blocks[b + 1]);
+         ++u) {
       units_.push_back(static_cast<int>(rows_.size()));
-    CompactRow c{};
-    c.ja_v = r.Ja.head<3>();
-    c.ja_w = r.Ja.tail<3>();
-    c.jb_v = r.Jb.head<3>();
-    c.jb_w = r.Jb.tail<3>();
-    c.a = r.body_a >= 0 ? r.body_a : none;
-    c.b = r.body_b >= 0 ? r.body_b : none;
-    const Body& a = bodies_[static_cast<std::size_t>(c.a)];
-    const Body& b = bodies_[static_cast<std::size_t>(c.b)];
-    c.wa_v = a.inv_mass * c.ja_v;
-    c.wa_w = a.inv_inertia * c.ja_w;
-    c.wb_v = b.inv_mass * c.jb_v;
-    c.wb_w = b.inv_inertia * c.jb_w;
-    const double k_eff =
-        c.ja_v.dot(c.wa_v) + c.ja_w.dot(c.wa_w) + c.jb_v.dot(c.wb_v) + c.jb_w.dot(c.wb_w) + r.cfm;
-    c.mass = k_eff > 0.0 ? 1.0 / k_eff : 0.0;
-    c.phi0 = r.phi;
-    c.speed = r.speed;
-    c.lo = r.lo;
-    c.hi = r.hi;
-    c.mu = r.mu;
-    c.friction = r.kind == RowKind::Friction;
-    c.normal = c.friction ? r.normal : -1;
-    c.unilateral = r.kind == RowKind::Unilateral;
-    c.positional = r.kind == RowKind::Bilateral || c.unilateral;
-    c.rate0 = 0.0;
-    c.moves_a = c.a != none && takesImpulses(a);
-    c.moves_b = c.b != none && takesImpulses(b);
-    rows_.push_back(c);
-    rows_.back().rate0 = rate(rows_.back());
-    compact_[k] = static_cast<int>(index_.size());
-    index_.push_back(static_cast<int>(k));
-  }
-  // Manifolds: the active normal rows of each (numbers ascend with the rows), and each contact
-  // row's manifold.
-  group_start_.clear();
-  group_rows_.clear();
-  int last = -1;
-  for (std::size_t i = 0; i < rows_.size(); ++i) {
-    CompactRow& c = rows_[i];
-    c.group = -1;
-    const auto k = static_cast<std::size_t>(index_[i]);
-    if (c.friction || manifold[k] < 0) continue;
-    if (manifold[k] != last) {
-      group_start_.push_back(static_cast<int>(group_rows_.size()));
-      last = manifold[k];
+      for (int pos = units[u]; pos < units[u + 1]; ++pos) {
+        const auto k = static_cast<std::size_t>(order_[static_cast<std::size_t>(pos)]);
+        const Row& r = rows[k];
+        CompactRow c{};
+        c.ja_v = r.Ja.head<3>();
+        c.ja_w = r.Ja.tail<3>();
+        c.jb_v = r.Jb.head<3>();
+        c.jb_w = r.Jb.tail<3>();
+        c.a = r.body_a >= 0 ? r.body_a : none;
+        c.b = r.body_b >= 0 ? r.body_b : none;
+        const Body& ba = bodies_[static_cast<std::size_t>(c.a)];
+        const Body& bb = bodies_[static_cast<std::size_t>(c.b)];
+        c.wa_v = ba.inv_mass * c.ja_v;
+        c.wa_w = ba.inv_inertia * c.ja_w;
+        c.wb_v = bb.inv_mass * c.jb_v;
+        c.wb_w = bb.inv_inertia * c.jb_w;
+        const double k_eff = c.ja_v.dot(c.wa_v) + c.ja_w.dot(c.wa_w) + c.jb_v.dot(c.wb_v) +
+                             c.jb_w.dot(c.wb_w) + r.cfm;
+        c.mass = k_eff > 0.0 ? 1.0 / k_eff : 0.0;
+        c.phi0 = r.phi;
+        c.speed = r.speed;
+        c.lo = r.lo;
+        c.hi = r.hi;
+        c.mu = r.mu;
+        c.friction = r.kind == RowKind::Friction;
+        c.normal = c.friction ? r.normal : -1;
+        // A friction row's bound follows its manifold's normal rows: its block's units' first.
+        c.manifold =
+            c.friction && r.normal >= 0 && manifold[static_cast<std::size_t>(r.normal)] >= 0
+                ? static_cast<int>(blocks_.size()) - 1
+                : -1;
+        c.unilateral = r.kind == RowKind::Unilateral;
+        c.positional = r.kind == RowKind::Bilateral || c.unilateral;
+        c.moves_a = c.a != none && takesImpulses(ba);
+        c.moves_b = c.b != none && takesImpulses(bb);
+        c.rate0 = rate(c);
+        compact_[k] = static_cast<int>(rows_.size());
+        rows_.push_back(c);
+        index_.push_back(static_cast<int>(k));
+      }
     }
-    c.group = static_cast<int>(group_start_.size()) - 1;
-    group_rows_.push_back(static_cast<int>(i));
   }
-  group_start_.push_back(static_cast<int>(group_rows_.size()));
-  for (CompactRow& c : rows_)
-    if (c.friction && c.normal >= 0) {
-      const int normal = compact_[static_cast<std::size_t>(c.normal)];
-      c.group = normal >= 0 ? rows_[static_cast<std::size_t>(normal)].group : -1;
-    }
+  blocks_.push_back(static_cast<int>(units_.size()));
   units_.push_back(static_cast<int>(rows_.size()));
-  colour();
   sweeps_ = 0;
 }
 
-void SoftSolver::colour() {
-  // Blocks: runs of units of one manifold (the same two bodies), or a unit alone.
-  blocks_.clear();
-  const std::size_t units = units_.size() - 1;
-  const auto first = [&](std::size_t u) -> const CompactRow& {
-    return rows_[static_cast<std::size_t>(units_[u])];
-  };
-  for (std::size_t u = 0; u < units; ++u) {
-    const CompactRow& c = first(u);
-    const bool joins = u > 0 && c.group >= 0 && first(u - 1).group == c.group &&
-                       first(u - 1).a == c.a && first(u - 1).b == c.b;
-    if (!joins) blocks_.push_back(static_cast<int>(u));
-  }
-  const std::size_t blocks = blocks_.size();
-  blocks_.push_back(static_cast<int>(units));
+std::span<const int> SoftSolver::colour(std::span<const Row> rows, std::span<const int> units,
+                                        std::span<const int> blocks) {
   // First fit: a block takes the lowest colour that none of its moving bodies has yet; one with a
   // static or kinematic end starts at colour 1 (Box2D v3), so the contacts between moving bodies
   // are solved first and those holding them up after.
-  std::vector<std::uint64_t> used(bodies_.size(), 0);
-  std::vector<int> colour_of(blocks);
-  std::vector<int> count(kColours + 1, 0);
-  for (std::size_t k = 0; k < blocks; ++k) {
-    const CompactRow& c = first(static_cast<std::size_t>(blocks_[k]));
+  const std::size_t count_blocks = blocks.size() - 1;
+  const auto moves = [&](int body) {
+    return body >= 0 && takesImpulses(bodies_[static_cast<std::size_t>(body)]);
+  };
+  std::vector<std::uint64_t>& used = colour_masks_;
+  used.assign(bodies_.size(), 0);
+  std::vector<int>& colour_of = colour_of_;
+  colour_of.resize(count_blocks);
+  std::array<int, kColours + 1> count{};
+  for (std::size_t k = 0; k < count_blocks; ++k) {
+    const Row& r = rows[static_cast<std::size_t>(
+        order_[static_cast<std::size_t>(units[static_cast<std::size_t>(blocks[k])])])];
+    const bool moves_a = moves(r.body_a), moves_b = moves(r.body_b);
     std::uint64_t taken = 0;
-    if (c.moves_a) taken |= used[static_cast<std::size_t>(c.a)];
-    if (c.moves_b) taken |= used[static_cast<std::size_t>(c.b)];
-    if (!(c.moves_a && c.moves_b)) taken |= 1;
+    if (moves_a) taken |= used[static_cast<std::size_t>(r.body_a)];
+    if (moves_b) taken |= used[static_cast<std::size_t>(r.body_b)];
+    if (!(moves_a && moves_b)) taken |= 1;
     const int free = std::countr_one(taken);  // kColours when every colour is taken
     colour_of[k] = free;
     ++count[static_cast<std::size_t>(free)];
     if (free == kColours) continue;
     const std::uint64_t bit = std::uint64_t{1} << free;
-    if (c.moves_a) used[static_cast<std::size_t>(c.a)] |= bit;
-    if (c.moves_b) used[static_cast<std::size_t>(c.b)] |= bit;
+    if (moves_a) used[static_cast<std::size_t>(r.body_a)] |= bit;
+    if (moves_b) used[static_cast<std::size_t>(r.body_b)] |= bit;
   }
   // Colours in use (empty ones dropped), then the overflow set; blocks in order within each.
-  std::vector<int> slot(kColours + 1, -1);
+  std::array<int, kColours + 1> fill{};
   colour_start_.assign(1, 0);
   for (int c = 0; c <= kColours; ++c) {
-    if (count[static_cast<std::size_t>(c)] == 0 && c < kColours) continue;
-    slot[static_cast<std::size_t>(c)] = static_cast<int>(colour_start_.size()) - 1;
-    colour_start_.push_back(colour_start_.back() + count[static_cast<std::size_t>(c)]);
+    const int size = count[static_cast<std::size_t>(c)];
+    if (size == 0 && c < kColours) continue;
+    fill[static_cast<std::size_t>(c)] = colour_start_.back();
+    colour_start_.push_back(colour_start_.back() + size);
   }
-  std::vector<int> next(colour_start_.begin(), colour_start_.end() - 1);
-  coloured_.resize(blocks);
-  for (std::size_t k = 0; k < blocks; ++k) {
-    const int s = slot[static_cast<std::size_t>(colour_of[k])];
-    coloured_[static_cast<std::size_t>(next[static_cast<std::size_t>(s)]++)] = static_cast<int>(k);
-  }
+  std::vector<int>& order = sweep_blocks_;
+  order.resize(count_blocks);
+  for (std::size_t k = 0; k < count_blocks; ++k)
+    order[static_cast<std::size_t>(fill[static_cast<std::size_t>(colour_of[k])]++)] =
+        static_cast<int>(k);
+  return order;
 }
 
 int SoftSolver::overflowRows() const {
   int rows = 0;
-  for (int i = colour_start_[colour_start_.size() - 2]; i < colour_start_.back(); ++i) {
-    const auto k = static_cast<std::size_t>(coloured_[static_cast<std::size_t>(i)]);
-    rows += units_[static_cast<std::size_t>(blocks_[k + 1])] -
-            units_[static_cast<std::size_t>(blocks_[k])];
-  }
+  for (int k = colour_start_[colour_start_.size() - 2]; k < colour_start_.back(); ++k)
+    rows += units_[static_cast<std::size_t>(blocks_[static_cast<std::size_t>(k) + 1])] -
+            units_[static_cast<std::size_t>(blocks_[static_cast<std::size_t>(k)])];
   return rows;
 }
 
@@ -210,12 +225,11 @@ void SoftSolver::eachBlock(bool forward, F&& block) {
         return static_cast<std::ptrdiff_t>(colour_start_[c + 1] - colour_start_[c]);
       },
       [&](int phase, std::ptrdiff_t i) {
-        block(static_cast<std::size_t>(
-            coloured_[static_cast<std::size_t>(colour_start_[colourAt(phase)] + i)]));
+        block(static_cast<std::size_t>(colour_start_[colourAt(phase)] + i));
       });
   const auto overflow = static_cast<std::size_t>(colours);
-  for (int i = colour_start_[overflow]; i < colour_start_[overflow + 1]; ++i)
-    block(static_cast<std::size_t>(coloured_[static_cast<std::size_t>(i)]));
+  for (int k = colour_start_[overflow]; k < colour_start_[overflow + 1]; ++k)
+    block(static_cast<std::size_t>(k));
 }
 
 double SoftSolver::phi(const CompactRow& c) const {
@@ -317,14 +331,15 @@ void SoftSolver::accumulate() {
 }
 
 double SoftSolver::frictionBound(const CompactRow& c) const {
-  if (c.group < 0) return c.mu * std::max(0.0, lambda_[static_cast<std::size_t>(c.normal)]);
-  const auto g = static_cast<std::size_t>(c.group);
+  if (c.manifold < 0) return c.mu * std::max(0.0, lambda_[static_cast<std::size_t>(c.normal)]);
+  const auto block = static_cast<std::size_t>(c.manifold);
+  const int first = blocks_[block], last = blocks_[block + 1];
   double sum = 0.0;
-  for (int j = group_start_[g]; j < group_start_[g + 1]; ++j)
-    sum += std::max(
-        0.0, lambda_[static_cast<std::size_t>(
-                 index_[static_cast<std::size_t>(group_rows_[static_cast<std::size_t>(j)])])]);
-  return c.mu * sum / (group_start_[g + 1] - group_start_[g]);
+  for (int u = first; u < last; ++u)
+    sum +=
+        std::max(0.0, lambda_[static_cast<std::size_t>(
+                          index_[static_cast<std::size_t>(units_[static_cast<std::size_t>(u)])])]);
+  return c.mu * sum / (last - first);
 }
 
 void SoftSolver::restitution(std::span<const Bounce> bounces) {

@@ -113,9 +113,10 @@ class SoftSolver {
     double mass;                  // 1 / (J M^-1 J^T), 0 for a row that moves nothing
     double rate0;                 // J u at the start of the step
     double phi0, speed, lo, hi, mu;
-    int a, b;    // body slots; an absent end points at a slot that stays zero
-    int normal;  // friction: the normal row, else -1
-    int group;   // normal and friction rows of a contact: its manifold in groups_, else -1
+    int a, b;      // body slots; an absent end points at a slot that stays zero
+    int normal;    // friction: the normal row, else -1
+    int manifold;  // a friction row of a manifold: its block (whose units' first rows are the
+                   // manifold's normal rows), else -1
     bool unilateral, friction, positional;  // positional: phi is a position error
     bool moves_a, moves_b;                  // the end takes impulses (not static or kinematic)
   };
@@ -124,11 +125,13 @@ class SoftSolver {
   void apply(const CompactRow& c, double delta);
 
   std::vector<CompactRow> rows_;
-  std::vector<int> index_;                     // compact row -> row
-  std::vector<int> compact_;                   // row -> compact row, -1 for a row left out
-  std::vector<int> group_start_, group_rows_;  // manifolds: their normal rows (compact), CSR
+  std::vector<int> index_;    // compact row -> row
+  std::vector<int> compact_;  // row -> compact row, -1 for a row left out
   double frictionBound(const CompactRow& c) const;
-  void colour();
+  /// Colours the blocks (units [blocks[b], blocks[b + 1]), whose rows are
+  /// order_[units[u]] .. order_[units[u + 1] - 1]) and returns them in sweep order.
+  std::span<const int> colour(std::span<const Row> rows, std::span<const int> units,
+                              std::span<const int> blocks);
   /// Solves a unit's rows: its normal (or lone) row, then its friction rows.
   void solveUnit(std::size_t u, bool bias);
   /// Calls block(b) for every block, colour by colour (backwards when `forward` is false), each
@@ -138,12 +141,15 @@ class SoftSolver {
   std::vector<double> lambda_, total_;  // by row
   std::vector<Body> bodies_;            // and one more, always at rest, for an absent end
   Settings settings_;
-  std::vector<int> order_;      // the rows in sweep order (all of them)
-  std::vector<int> frictions_;  // per row: its first friction row, -1 for none
-  std::vector<int> units_;      // rows_ [units_[u], units_[u + 1]) are solved together, in order
-  std::vector<int> blocks_;     // units [blocks_[b], blocks_[b + 1]): one manifold (same bodies)
-  std::vector<int> colour_start_, coloured_;  // blocks by colour (CSR); the last is the overflow
-  int sweeps_ = 0;                            // sweeps since prepare
+  std::vector<int> order_;  // the rows that act, each contact point's normal then its friction rows
+  std::vector<int> frictions_;     // per row: its first friction row, -1 for none
+  std::vector<int> units_;         // rows_ [units_[u], units_[u + 1]) are solved together, in order
+  std::vector<int> blocks_;        // units [blocks_[b], blocks_[b + 1]): one manifold (same bodies)
+  std::vector<int> colour_start_;  // blocks of each colour, in sweep order; the last: the overflow
+  // prepare's and colour's buffers, kept for their capacity
+  std::vector<int> unit_scratch_, block_scratch_, colour_of_, sweep_blocks_;
+  std::vector<std::uint64_t> colour_masks_;
+  int sweeps_ = 0;  // sweeps since prepare
 };
 
 }  // namespace linx::solver
