@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -19,7 +18,7 @@ namespace {
 /// more at the barriers between colours than a second thread saves (1,000 poured spheres, about
 /// 10,000 rows, ran at 0.8 times the speed on two threads).
 constexpr std::size_t kColourRows = 16384;
-constexpr int kColours = 64;  // per phase; rows that find no free colour are swept serially
+constexpr int kColours = GraphColouring::kColours;  // per phase; the rest is swept serially
 /// Rows of a colour from which its warm start is split over the threads (a team costs more than a
 /// few rows).
 constexpr std::ptrdiff_t kParallelWarmRows = 1024;
@@ -59,11 +58,10 @@ void PgsSolver::planSweep(Problem& p) {
   // unordered sweep does). Within a phase, colour c holds rows that share no movable body; a
   // block's rows take the colour of its first row, and stay consecutive (the fill keeps the
   // rows' order within a colour).
-  taken_.resize(p.bodies.size());
   colour_of_.resize(n);
   std::size_t pos = 0;
   for (const bool friction : {false, true}) {
-    std::fill(taken_.begin(), taken_.end(), std::uint64_t{0});
+    colouring_.reset(p.bodies.size());
     std::array<int, kColours + 1> count{};
     for (std::size_t k = 0; k < n; ++k) {
       const Row& r = p.rows[k];
@@ -73,16 +71,9 @@ void PgsSolver::planSweep(Problem& p) {
         ++count[static_cast<std::size_t>(colour_of_[k])];
         continue;
       }
-      std::uint64_t used = 0;
-      if (r.body_a >= 0) used |= taken_[static_cast<std::size_t>(r.body_a)];
-      if (r.body_b >= 0) used |= taken_[static_cast<std::size_t>(r.body_b)];
-      const int colour = used == ~std::uint64_t{0} ? kColours : std::countr_one(used);
+      const int colour = colouring_.take(r.body_a, r.body_b);
       colour_of_[k] = colour;
       ++count[static_cast<std::size_t>(colour)];
-      if (colour == kColours) continue;
-      const std::uint64_t bit = std::uint64_t{1} << colour;
-      if (r.body_a >= 0) taken_[static_cast<std::size_t>(r.body_a)] |= bit;
-      if (r.body_b >= 0) taken_[static_cast<std::size_t>(r.body_b)] |= bit;
     }
     std::array<int, kColours + 1> fill{};
     for (int c = 0; c <= kColours; ++c) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "solver/graph_colouring.hpp"
 #include "solver/problem.hpp"
 
 #include <Eigen/Core>
@@ -80,7 +81,7 @@ class PgsSolver final : public ConstraintSolver {
   std::vector<BlockMatrix> block_inverse_;
   std::vector<int> group_ends_;  // sweep position where each group ends
   std::vector<int> colour_of_;
-  std::vector<std::uint64_t> taken_;  // per body: the colours of its rows in this phase
+  GraphColouring colouring_;  // of this phase's rows
   std::vector<double> thread_violation_;
 };
 

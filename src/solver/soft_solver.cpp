@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -14,8 +13,7 @@ namespace linx::solver {
 
 namespace {
 
-/// Colours a block may take (one bit each in a body's mask); the blocks beyond overflow.
-constexpr int kColours = 64;
+constexpr int kColours = GraphColouring::kColours;
 /// Blocks of a colour from which it is split over the threads.
 constexpr std::ptrdiff_t kParallelBlocks = 32;
 
@@ -166,8 +164,7 @@ std::span<const int> SoftSolver::colour(std::span<const Row> rows, std::span<con
   const auto moves = [&](int body) {
     return body >= 0 && takesImpulses(bodies_[static_cast<std::size_t>(body)]);
   };
-  std::vector<std::uint64_t>& used = colour_masks_;
-  used.assign(bodies_.size(), 0);
+  colouring_.reset(bodies_.size());
   std::vector<int>& colour_of = colour_of_;
   colour_of.resize(count_blocks);
   std::array<int, kColours + 1> count{};
@@ -175,17 +172,10 @@ std::span<const int> SoftSolver::colour(std::span<const Row> rows, std::span<con
     const Row& r = rows[static_cast<std::size_t>(
         order_[static_cast<std::size_t>(units[static_cast<std::size_t>(blocks[k])])])];
     const bool moves_a = moves(r.body_a), moves_b = moves(r.body_b);
-    std::uint64_t taken = 0;
-    if (moves_a) taken |= used[static_cast<std::size_t>(r.body_a)];
-    if (moves_b) taken |= used[static_cast<std::size_t>(r.body_b)];
-    if (!(moves_a && moves_b)) taken |= 1;
-    const int free = std::countr_one(taken);  // kColours when every colour is taken
-    colour_of[k] = free;
-    ++count[static_cast<std::size_t>(free)];
-    if (free == kColours) continue;
-    const std::uint64_t bit = std::uint64_t{1} << free;
-    if (moves_a) used[static_cast<std::size_t>(r.body_a)] |= bit;
-    if (moves_b) used[static_cast<std::size_t>(r.body_b)] |= bit;
+    const int colour = colouring_.take(moves_a ? r.body_a : -1, moves_b ? r.body_b : -1,
+                                       moves_a && moves_b ? 0 : 1);
+    colour_of[k] = colour;
+    ++count[static_cast<std::size_t>(colour)];
   }
   // Colours in use (empty ones dropped), then the overflow set; blocks in order within each.
   std::array<int, kColours + 1> fill{};

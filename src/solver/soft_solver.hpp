@@ -27,6 +27,7 @@
 #include <linx/row.hpp>
 #include <linx/solver.hpp>
 
+#include "solver/graph_colouring.hpp"
 #include "solver/problem.hpp"
 
 #include <cstdint>
@@ -148,7 +149,7 @@ class SoftSolver {
   std::vector<int> colour_start_;  // blocks of each colour, in sweep order; the last: the overflow
   // prepare's and colour's buffers, kept for their capacity
   std::vector<int> unit_scratch_, block_scratch_, colour_of_, sweep_blocks_;
-  std::vector<std::uint64_t> colour_masks_;
+  GraphColouring colouring_;
   int sweeps_ = 0;  // sweeps since prepare
 };
 
