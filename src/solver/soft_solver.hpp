@@ -121,6 +121,8 @@ class SoftSolver {
     bool unilateral, friction, positional;  // positional: phi is a position error
     bool moves_a, moves_b;                  // the end takes impulses (not static or kinematic)
   };
+  /// Row r for the sweep; `block`: its block's place in the sweep.
+  CompactRow compactRow(const Row& r, std::span<const int> manifold, int block) const;
   double phi(const CompactRow& c) const;
   double rate(const CompactRow& c) const;
   void apply(const CompactRow& c, double delta);
@@ -148,7 +150,7 @@ class SoftSolver {
   std::vector<int> blocks_;        // units [blocks_[b], blocks_[b + 1]): one manifold (same bodies)
   std::vector<int> colour_start_;  // blocks of each colour, in sweep order; the last: the overflow
   // prepare's and colour's buffers, kept for their capacity
-  std::vector<int> unit_scratch_, block_scratch_, colour_of_, sweep_blocks_;
+  std::vector<int> unit_scratch_, block_scratch_, colour_of_, sweep_blocks_, block_rows_;
   GraphColouring colouring_;
   int sweeps_ = 0;  // sweeps since prepare
 };
