@@ -6,6 +6,7 @@
 // and only points spanning that area (not one deepest point) let it rest without rocking.
 // Conventions: collision/narrowphase.hpp (normal from a to b, depth > 0 penetration, points while
 // depth > -margin, point midway between the surfaces).
+#include "collision/manifold_reduction.hpp"
 #include "collision/primitive_pairs.hpp"
 
 #include <algorithm>
@@ -160,7 +161,7 @@ int faceContact(const Box& ref, const Box& inc, int i, bool ref_is_b, double mar
     const double sep = nr.dot(p - face_centre);
     if (sep < margin) out.push_back({p - 0.5 * sep * nr, normal, -sep, head | 0xffu});
   }
-  detail::keepSpanningPoints(out, first);
+  reduceManifold(out, first, normal);
   return static_cast<int>(out.size() - first);
 }
 

@@ -30,6 +30,7 @@
 
 #include "collision/geometry.hpp"
 #include "collision/gjk_epa.hpp"
+#include "collision/manifold_reduction.hpp"
 
 namespace linx::collision {
 
@@ -201,83 +202,6 @@ void mergeDuplicates(std::vector<ContactPoint>& pts) {
   pts.swap(kept);
 }
 
-/// Keeps at most 4 points that span the contact area (step 4 above), and drops points that add
-/// no area (collinear with or inside the others, as where two triangles' manifolds meet).
-/// n: the common normal.
-void reducePoints(std::vector<ContactPoint>& pts, const Vec3& n) {
-  if (pts.size() <= 2) return;
-  const int count = static_cast<int>(pts.size());
-  auto flat = [&](const Vec3& x) { return Vec3(x - n * n.dot(x)); };  // projected on the plane
-  Vec3 centroid = Vec3::Zero();
-  double max_depth = -kInfinity;
-  for (const ContactPoint& p : pts) {
-    centroid += p.point;
-    max_depth = std::max(max_depth, p.depth);
-  }
-  centroid /= count;
-  // 1. The deepest (within 1e-6 m), farthest from the centroid among ties.
-  int i0 = -1;
-  double best = -1.0;
-  for (int i = 0; i < count; ++i) {
-    if (pts[i].depth < max_depth - 1e-6) continue;
-    const double d = flat(pts[i].point - centroid).squaredNorm();
-    if (d > best) {
-      best = d;
-      i0 = i;
-    }
-  }
-  // 2. The farthest from it.
-  int i1 = -1;
-  best = -1.0;
-  for (int i = 0; i < count; ++i) {
-    if (i == i0) continue;
-    const double d = flat(pts[i].point - pts[i0].point).squaredNorm();
-    if (d > best) {
-      best = d;
-      i1 = i;
-    }
-  }
-  const Vec3 p0 = pts[i0].point, p1 = pts[i1].point;
-  // (m^2) areas below this add nothing: a point within ~1e-8 spans of the line or triangle.
-  const double tiny = std::max(1e-8 * flat(p1 - p0).squaredNorm(), 1e-24);
-  // 3. The largest triangle with them, on either side.
-  int i2 = -1;
-  double signed_area = 0.0;
-  best = tiny;
-  for (int i = 0; i < count; ++i) {
-    if (i == i0 || i == i1) continue;
-    const double a = n.dot((p1 - p0).cross(pts[i].point - p0));
-    if (std::abs(a) > best) {
-      best = std::abs(a);
-      signed_area = a;
-      i2 = i;
-    }
-  }
-  std::vector<ContactPoint> kept{pts[i0], pts[i1]};
-  if (i2 >= 0) {
-    kept.push_back(pts[i2]);
-    // 4. The point adding the most area outside the triangle's edges (oriented as the triangle).
-    const double orient = signed_area > 0.0 ? 1.0 : -1.0;
-    const Vec3 tri[3] = {p0, p1, pts[i2].point};
-    int i3 = -1;
-    best = tiny;
-    for (int i = 0; i < count; ++i) {
-      if (i == i0 || i == i1 || i == i2) continue;
-      for (int e = 0; e < 3; ++e) {
-        const Vec3& u = tri[e];
-        const Vec3& v = tri[(e + 1) % 3];
-        const double outside = -orient * n.dot((v - u).cross(pts[i].point - u));
-        if (outside > best) {
-          best = outside;
-          i3 = i;
-        }
-      }
-    }
-    if (i3 >= 0) kept.push_back(pts[i3]);
-  }
-  pts.swap(kept);
-}
-
 /// The contact points of a and b given the GJK/EPA query q (q.hit): steps 2 to 4.
 void buildManifold(const ConvexSupport& A, const ConvexSupport& B, const ContactQuery& q,
                    double margin, std::vector<ContactPoint>& pts) {
@@ -346,7 +270,7 @@ void buildManifold(const ConvexSupport& A, const ConvexSupport& B, const Contact
   if (pts.empty() || deepest < depth - 1e-6 - 1e-3 * std::abs(depth))
     add(q.point_a, q.point_b, mix(mix(4u, fa.id), fb.id));
   mergeDuplicates(pts);
-  reducePoints(pts, n);
+  reduceManifold(pts, 0, n);
 }
 
 int appendPoints(const std::vector<ContactPoint>& pts, std::vector<ContactPoint>& out) {
@@ -415,7 +339,7 @@ int planeContacts(const ShapeInstance& plane, const ShapeInstance& other, double
     case Core::Triangle:
       break;
   }
-  reducePoints(pts, N);
+  reduceManifold(pts, 0, N);
   return appendPoints(pts, out);
 }
 
@@ -559,7 +483,7 @@ int collideMesh(const ShapeInstance& a, const ShapeInstance& mesh, double margin
         used[j] = 1;
         group.push_back(all[j]);
       }
-    reducePoints(group, all[i].normal);
+    reduceManifold(group, 0, all[i].normal);
     result.insert(result.end(), group.begin(), group.end());
   }
   return appendPoints(result, out);

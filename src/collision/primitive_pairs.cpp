@@ -7,6 +7,8 @@
 // depth > -margin, point midway between the two surfaces).
 #include "collision/primitive_pairs.hpp"
 
+#include "collision/manifold_reduction.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -563,57 +565,8 @@ int collidePlane(const ShapeInstance& plane, const ShapeInstance& other, double 
     default:
       return 0;  // hulls and meshes go through the convex routines
   }
-  detail::keepSpanningPoints(out, first);
+  reduceManifold(out, first, n);
   return static_cast<int>(out.size() - first);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Manifold reduction.
-
-void detail::keepSpanningPoints(std::vector<ContactPoint>& points, std::size_t first) {
-  const std::size_t count = points.size() - std::min(first, points.size());
-  if (count <= static_cast<std::size_t>(kMaxPointsPerPair)) return;
-  const Vec3 n = points[first].normal;
-  // Positions projected across the normal: areas are measured in the contact plane.
-  auto at = [&](std::size_t k) {
-    const Vec3& p = points[first + k].point;
-    return Vec3(p - n.dot(p) * n);
-  };
-  auto argmax = [&](auto score) {
-    std::size_t best = 0;
-    double best_score = -kInfinity;
-    for (std::size_t k = 0; k < count; ++k) {
-      const double v = score(k);
-      if (v > best_score) {
-        best_score = v;
-        best = k;
-      }
-    }
-    return best;
-  };
-  // 1: the deepest. 2: the farthest from it. 3: the largest triangle with those. 4: the largest
-  // area added outside that triangle, i.e. the most negative signed area against one of its
-  // edges (oriented so the triangle itself is positive).
-  const std::size_t i0 = argmax([&](std::size_t k) { return points[first + k].depth; });
-  const std::size_t i1 = argmax([&](std::size_t k) { return (at(k) - at(i0)).squaredNorm(); });
-  auto signedArea = [&](const Vec3& p, const Vec3& q, const Vec3& x) {
-    return 0.5 * n.dot((q - p).cross(x - p));
-  };
-  const std::size_t i2 =
-      argmax([&](std::size_t k) { return std::abs(signedArea(at(i0), at(i1), at(k))); });
-  const double orient = signOf(signedArea(at(i0), at(i1), at(i2)));
-  const std::size_t i3 = argmax([&](std::size_t k) {
-    const double s0 = orient * signedArea(at(i0), at(i1), at(k));
-    const double s1 = orient * signedArea(at(i1), at(i2), at(k));
-    const double s2 = orient * signedArea(at(i2), at(i0), at(k));
-    return -std::min({s0, s1, s2});
-  });
-  // Compact the kept points to the front, in their original order (k >= kept, so no overwrite).
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < count; ++k) {
-    if (k == i0 || k == i1 || k == i2 || k == i3) points[first + kept++] = points[first + k];
-  }
-  points.resize(first + kept);
 }
 
 }  // namespace linx::collision

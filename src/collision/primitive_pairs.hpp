@@ -43,12 +43,6 @@ namespace detail {
 /// two segments; deterministic for parallel and zero-length segments.
 std::pair<double, double> closestSegmentParams(const Vec3& p0, const Vec3& p1, const Vec3& q0,
                                                const Vec3& q1);
-
-/// Keeps at most kMaxPointsPerPair of the points of one manifold from index `first` of `points`
-/// on (the rest are erased): the deepest, then the one farthest from it, then the one making the
-/// largest triangle with those two, then the one adding the most area to that triangle, all
-/// measured across the normal of the first point. The kept points stay in their original order.
-void keepSpanningPoints(std::vector<ContactPoint>& points, std::size_t first);
 }  // namespace detail
 
 }  // namespace linx::collision
