@@ -17,9 +17,8 @@
 //    one farthest from the centroid among equally deep ones), the one farthest from it, and the
 //    two that add the most area (if they add any), which keeps a resting box's four corners.
 //
-// A plane is handled directly: every vertex of a box or hull, the two end points of a capsule's
-// segment, each cylinder cap's lowest rim point (or its octagon when the cap lies flat), a
-// sphere's lowest point, each with its exact depth below the plane.
+// A plane is collidePlane's (collision/primitive_pairs.cpp), for hulls too: every vertex with its
+// exact depth below the plane.
 #include "collision/convex_pairs.hpp"
 
 #include <algorithm>
@@ -31,6 +30,7 @@
 #include "collision/geometry.hpp"
 #include "collision/gjk_epa.hpp"
 #include "collision/manifold_reduction.hpp"
+#include "collision/primitive_pairs.hpp"
 
 namespace linx::collision {
 
@@ -278,71 +278,6 @@ int appendPoints(const std::vector<ContactPoint>& pts, std::vector<ContactPoint>
   return static_cast<int>(pts.size());
 }
 
-/// A plane (a) against a convex shape (b); the normal is the plane's outward normal.
-int planeContacts(const ShapeInstance& plane, const ShapeInstance& other, double margin,
-                  std::vector<ContactPoint>& out) {
-  using Core = ConvexSupport::Core;
-  std::shared_ptr<const Geometry> owned;
-  ShapeInstance o = other;
-  if (o.def->type == ShapeType::Convex && o.geometry == nullptr)
-    o.geometry = (owned = prepareGeometry(*o.def)).get();
-  const ConvexSupport s = makeSupport(o);
-  const double len = plane.def->normal.norm();
-  if (!(len > 0.0)) return 0;
-  const Vec3 N = plane.pose.orientation.normalized() * (plane.def->normal / len);
-  const double offset = plane.def->offset / len + N.dot(plane.pose.position);
-  std::vector<ContactPoint> pts;
-  // A candidate surface point p of the other shape: depth below the plane, point midway.
-  auto add = [&](const Vec3& p, std::uint32_t id) {
-    const double depth = offset - N.dot(p);
-    if (depth > -margin) pts.push_back(ContactPoint{p + 0.5 * depth * N, N, depth, id});
-  };
-  const Vec3 axis = s.rotation.col(2);
-  switch (s.core) {
-    case Core::Point:
-      add(s.position - s.radius * N, 0);
-      break;
-    case Core::Segment:
-      add(s.position - s.half.z() * axis - s.radius * N, 1);
-      add(s.position + s.half.z() * axis - s.radius * N, 2);
-      break;
-    case Core::Box:
-      for (std::uint32_t c = 0; c < 8; ++c) {
-        const Vec3 local((c & 1) ? s.half.x() : -s.half.x(), (c & 2) ? s.half.y() : -s.half.y(),
-                         (c & 4) ? s.half.z() : -s.half.z());
-        add(s.position + s.rotation * local, c);
-      }
-      break;
-    case Core::Cylinder: {
-      const double c = -axis.dot(N);  // > 0 when the +z cap faces the plane
-      for (double sign : {-1.0, 1.0}) {
-        if (std::abs(c) >= kCapCos && sign * c > 0.0) {
-          for (int k = 0; k < kCapSides; ++k)
-            add(s.position + s.rotation * capVertex(s, k, sign),
-                static_cast<std::uint32_t>((sign > 0.0 ? kCapSides : 0) + k));
-        } else {
-          // The cap circle's lowest point: radius along -N's component across the axis.
-          const Vec3 across = -N - c * axis;
-          const Vec3 rim =
-              across.norm() > 1e-12 ? Vec3(s.half.x() * across.normalized()) : Vec3::Zero();
-          add(s.position + sign * s.half.z() * axis + rim, sign > 0.0 ? 101u : 100u);
-        }
-      }
-      break;
-    }
-    case Core::Hull: {
-      const auto& vs = s.hull->vertices();
-      for (std::size_t v = 0; v < vs.size(); ++v)
-        add(s.position + s.rotation * vs[v], static_cast<std::uint32_t>(v));
-      break;
-    }
-    case Core::Triangle:
-      break;
-  }
-  reduceManifold(pts, 0, N);
-  return appendPoints(pts, out);
-}
-
 int flipped(int (*routine)(const ShapeInstance&, const ShapeInstance&, double,
                            std::vector<ContactPoint>&),
             const ShapeInstance& a, const ShapeInstance& b, double margin,
@@ -373,8 +308,8 @@ int collideConvex(const ShapeInstance& a, const ShapeInstance& b, double margin,
   if (isStaticOnly(ta) && isStaticOnly(tb)) return 0;
   if (tb == ShapeType::Mesh) return collideMesh(a, b, margin, out);
   if (ta == ShapeType::Mesh) return flipped(&collideMesh, a, b, margin, out);
-  if (ta == ShapeType::Plane) return planeContacts(a, b, margin, out);
-  if (tb == ShapeType::Plane) return flipped(&planeContacts, a, b, margin, out);
+  if (ta == ShapeType::Plane) return collidePlane(a, b, margin, out);
+  if (tb == ShapeType::Plane) return flipped(&collidePlane, a, b, margin, out);
 
   // A hull without prepared geometry is prepared here: slow (Qhull per call), but correct.
   std::shared_ptr<const Geometry> own_a, own_b;

@@ -31,7 +31,7 @@ Routine routineFor(ShapeType ta, ShapeType tb) {
   if (ta == T::Mesh) return nullptr;
   if (ta == T::Plane) {
     if (tb == T::Plane) return nullptr;
-    return tb == T::Convex ? &collideConvex : &collidePlane;
+    return &collidePlane;
   }
   if (tb == T::Plane) return nullptr;
   if (ta == T::Convex || tb == T::Convex || ta == T::Cylinder || tb == T::Cylinder)

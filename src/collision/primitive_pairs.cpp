@@ -7,12 +7,14 @@
 // depth > -margin, point midway between the two surfaces).
 #include "collision/primitive_pairs.hpp"
 
+#include "collision/geometry.hpp"
 #include "collision/manifold_reduction.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 
 namespace linx::collision {
 
@@ -493,10 +495,11 @@ int collideCapsuleBox(const ShapeInstance& a, const ShapeInstance& b, double mar
 
 int collidePlane(const ShapeInstance& plane, const ShapeInstance& other, double margin,
                  std::vector<ContactPoint>& out) {
-  Vec3 n = plane.pose.orientation * plane.def->normal;
-  if (!(n.norm() > kTinyLength)) return 0;
-  n.normalize();
-  const double offset = plane.def->offset + n.dot(plane.pose.position);
+  // normal . x = offset in the plane's frame, whatever the normal's length.
+  const double length = plane.def->normal.norm();
+  if (!(length > kTinyLength)) return 0;
+  const Vec3 n = (plane.pose.orientation * plane.def->normal).normalized();
+  const double offset = plane.def->offset / length + n.dot(plane.pose.position);
   const std::size_t first = out.size();
   auto depthOf = [&](const Vec3& y) { return offset - n.dot(y); };
   auto candidate = [&](const Vec3& y, std::uint32_t feature) {
@@ -562,8 +565,19 @@ int collidePlane(const ShapeInstance& plane, const ShapeInstance& other, double 
       }
       break;
     }
+    case ShapeType::Convex: {
+      // Every vertex of the hull (feature: its index). A hull without prepared geometry is
+      // prepared here: slow (Qhull per call), but correct.
+      std::shared_ptr<const Geometry> owned;
+      const Geometry* hull = other.geometry;
+      if (hull == nullptr) hull = (owned = prepareGeometry(def)).get();
+      const std::vector<Vec3>& vertices = hull->vertices();
+      for (std::size_t v = 0; v < vertices.size(); ++v)
+        candidate(pose.toWorld(vertices[v]), static_cast<std::uint32_t>(v));
+      break;
+    }
     default:
-      return 0;  // hulls and meshes go through the convex routines
+      return 0;  // a mesh or another plane: no contact with a plane
   }
   reduceManifold(out, first, n);
   return static_cast<int>(out.size() - first);

@@ -1,5 +1,5 @@
 // Exact narrowphase routines for the primitive pairs: spheres, capsules and boxes against each
-// other, and a plane against a sphere, box, capsule or cylinder. They follow the conventions of
+// other, and a plane against every convex shape. They follow the conventions of
 // collision/narrowphase.hpp (normal from a towards b, depth > 0 penetration, points while
 // depth > -margin, point midway between the surfaces, at most kMaxPointsPerPair points, feature
 // ids from the touching features). "Exact" means closed forms rather than an iterative convex
@@ -33,8 +33,9 @@ int collideCapsuleBox(const ShapeInstance& a, const ShapeInstance& b, double mar
 /// the reference face (collision/box_box.cpp).
 int collideBoxBox(const ShapeInstance& a, const ShapeInstance& b, double margin,
                   std::vector<ContactPoint>& out);
-/// A plane against a sphere, box, capsule or cylinder (other types append nothing). The normal
-/// is the plane's outward normal (from the plane towards the other shape).
+/// A plane against a sphere, box, capsule, cylinder or convex hull: the one plane routine (a mesh
+/// or another plane appends nothing). The normal is the plane's outward normal (from the plane
+/// towards the other shape).
 int collidePlane(const ShapeInstance& plane, const ShapeInstance& other, double margin,
                  std::vector<ContactPoint>& out);
 
