@@ -92,11 +92,10 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
     if (!joins) blocks.push_back(static_cast<int>(u));
   }
   blocks.push_back(static_cast<int>(units.size()) - 1);
-  // The compact rows, block by block in sweep order (colour by colour): a sweep reads them in
-  // the order they are stored. In the order they came, a colour's rows lay scattered and nearly
-  // every row a sweep read missed the cache (measured on 1,000 spheres).
-  // Where each block's units and rows go (a pass over the blocks in sweep order), then the
-  // rows themselves, the blocks split over the threads (each writes only its own rows).
+  // The compact rows, block by block in sweep order (colour by colour), so that a sweep reads
+  // them in the order they are stored (in the order they came, a colour's rows lay scattered and
+  // nearly every row a sweep read missed the cache: measured on 1,000 spheres). First where each
+  // block's units and rows go, then the rows, the blocks split over the threads.
   const std::span<const int> sweep = colour(rows, units, blocks);
   blocks_.resize(sweep.size() + 1);
   units_.clear();
@@ -210,17 +209,9 @@ std::span<const int> SoftSolver::colour(std::span<const Row> rows, std::span<con
   return order;
 }
 
-int SoftSolver::overflowRows() const {
-  int rows = 0;
-  for (int k = colour_start_[colour_start_.size() - 2]; k < colour_start_.back(); ++k)
-    rows += units_[static_cast<std::size_t>(blocks_[static_cast<std::size_t>(k) + 1])] -
-            units_[static_cast<std::size_t>(blocks_[static_cast<std::size_t>(k)])];
-  return rows;
-}
-
 template <class F>
 void SoftSolver::eachBlock(bool forward, F&& block) {
-  const int colours = this->colours();
+  const int colours = static_cast<int>(colour_start_.size()) - 2;  // the overflow set apart
   const auto colourAt = [&](int phase) {
     return static_cast<std::size_t>(forward ? phase : colours - 1 - phase);
   };

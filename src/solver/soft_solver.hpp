@@ -103,9 +103,6 @@ class SoftSolver {
   std::span<const double> total() const { return total_; }
   /// The largest complementarity violation of the last relax pass's impulses, as PGS reports it.
   double residual() const;
-  /// Colours of the last prepare (the overflow set not counted), and the rows left to it.
-  int colours() const { return static_cast<int>(colour_start_.size()) - 2; }
-  int overflowRows() const;
 
  private:
   struct CompactRow {
