@@ -278,15 +278,32 @@ void SoftSolver::sweep(bool bias) {
   // point's rows still in order): a one-way sweep leaves a bias towards the rows it visits last,
   // which walks a stack sideways.
   const bool forward = (sweeps_++ % 2) == 0;
-  eachBlock(forward, [&](std::size_t k) {
-    const auto begin = static_cast<std::size_t>(blocks_[k]);
-    const auto end = static_cast<std::size_t>(blocks_[k + 1]);
-    for (std::size_t visit = begin; visit < end; ++visit)
-      solveUnit(forward ? visit : end - 1 - (visit - begin), bias);
-  });
+  eachBlock(forward, [&](std::size_t k) { solveBlock(k, forward, bias); });
 }
 
-void SoftSolver::solveUnit(std::size_t u, bool bias) {
+void SoftSolver::solveBlock(std::size_t k, bool forward, bool bias) {
+  // A block's rows share their two bodies: their velocities stay in registers while its units are
+  // solved, and are written back once (only the moving ends: a colour's blocks share the static
+  // and kinematic ones).
+  const auto begin = static_cast<std::size_t>(blocks_[k]);
+  const auto end = static_cast<std::size_t>(blocks_[k + 1]);
+  const CompactRow& first = rows_[static_cast<std::size_t>(units_[begin])];
+  Body& a = bodies_[static_cast<std::size_t>(first.a)];
+  Body& b = bodies_[static_cast<std::size_t>(first.b)];
+  Ends ends{a.v, a.w, b.v, b.w, a.dp, a.dq, b.dp, b.dq};
+  for (std::size_t visit = begin; visit < end; ++visit)
+    solveUnit(forward ? visit : end - 1 - (visit - begin), bias, ends);
+  if (first.moves_a) {
+    a.v = ends.va;
+    a.w = ends.wa;
+  }
+  if (first.moves_b) {
+    b.v = ends.vb;
+    b.w = ends.wb;
+  }
+}
+
+void SoftSolver::solveUnit(std::size_t u, bool bias, Ends& e) {
   const double h = settings_.h;
   double bound = -1.0;  // the friction rows' bound, once the unit's normal row is solved
   for (auto i = static_cast<std::size_t>(units_[u]); i < static_cast<std::size_t>(units_[u + 1]);
@@ -302,7 +319,8 @@ void SoftSolver::solveUnit(std::size_t u, bool bias) {
     double target = 0.0;  // the bias velocity
     double mass_scale = 1.0, impulse_scale = 0.0;
     if (c.positional) {
-      const double error = phi(c);
+      const double error =
+          c.phi0 + c.ja_v.dot(e.dpa) + c.ja_w.dot(e.dqa) + c.jb_v.dot(e.dpb) + c.jb_w.dot(e.dqb);
       if (c.unilateral && error > 0.0) {
         target = error / h;  // a gap: it may close within the substep, no further
       } else if (bias) {
@@ -313,9 +331,18 @@ void SoftSolver::solveUnit(std::size_t u, bool bias) {
         impulse_scale = soft.impulse_scale;
       }
     }
-    const double delta = -c.mass * mass_scale * (rate(c) - c.speed + target) - impulse_scale * l;
+    const double rate = c.ja_v.dot(e.va) + c.ja_w.dot(e.wa) + c.jb_v.dot(e.vb) + c.jb_w.dot(e.wb);
+    const double delta = -c.mass * mass_scale * (rate - c.speed + target) - impulse_scale * l;
     const double next = std::clamp(l + delta, lo, hi);
-    apply(c, next - l);
+    const double applied = next - l;
+    if (c.moves_a) {
+      e.va += applied * c.wa_v;
+      e.wa += applied * c.wa_w;
+    }
+    if (c.moves_b) {
+      e.vb += applied * c.wb_v;
+      e.wb += applied * c.wb_w;
+    }
     l = next;
   }
 }

@@ -132,8 +132,16 @@ class SoftSolver {
   /// order_[units[u]] .. order_[units[u + 1] - 1]) and returns them in sweep order.
   std::span<const int> colour(std::span<const Row> rows, std::span<const int> units,
                               std::span<const int> blocks);
+  /// A block's two bodies while its rows are solved: velocities, and the motion since the step
+  /// began.
+  struct Ends {
+    Vec3 va, wa, vb, wb;
+    Vec3 dpa, dqa, dpb, dqb;
+  };
+  /// Solves block k's units, in order or (`forward` false) backwards.
+  void solveBlock(std::size_t k, bool forward, bool bias);
   /// Solves a unit's rows: its normal (or lone) row, then its friction rows.
-  void solveUnit(std::size_t u, bool bias);
+  void solveUnit(std::size_t u, bool bias, Ends& ends);
   /// Calls block(b) for every block, colour by colour (backwards when `forward` is false), each
   /// colour's blocks split over the threads, then the overflow set in order.
   template <class F>
