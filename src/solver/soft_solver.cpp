@@ -1,5 +1,9 @@
 #include "solver/soft_solver.hpp"
 
+// The wide sweep's helpers take and return four-lane vectors; they are inlined within this file,
+// so no call crosses the ABI that GCC warns about (a 32-byte vector passed without AVX).
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 #include "parallel/parallel_for.hpp"
 #include "solver/row_system.hpp"
 
@@ -45,6 +49,7 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
                       bodies[i].w,        Vec3::Zero(),          Vec3::Zero()};
   bodies_.back() = Body{};
   lambda_.assign(lambda.begin(), lambda.end());
+  lambda_.push_back(0.0);  // the spare impulse of a wide row's empty lanes, always 0
   total_.resize(n);
   // The sweep's order: each contact point's normal row followed by its friction rows (friction's
   // bound follows the normal impulse just solved), the other rows as they come.
@@ -130,7 +135,121 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
           compact_[k] = i;
         }
       });
+  buildBundles();
   sweeps_ = 0;
+}
+
+bool SoftSolver::bundles(std::size_t s) const {
+  for (auto u = static_cast<std::size_t>(blocks_[s]); u < static_cast<std::size_t>(blocks_[s + 1]);
+       ++u) {
+    const auto first = static_cast<std::size_t>(units_[u]);
+    if (units_[u + 1] - units_[u] != 3) return false;
+    const CompactRow& n = rows_[first];
+    if (!n.unilateral || !n.positional || n.friction) return false;
+    for (std::size_t i = first + 1; i < first + 3; ++i)
+      if (!rows_[i].friction || rows_[i].manifold != static_cast<int>(s) ||
+          rows_[i].normal != index_[first])
+        return false;
+  }
+  return true;
+}
+
+void SoftSolver::buildBundles() {
+  const int none = static_cast<int>(bodies_.size()) - 1;
+  bundles_.clear();
+  tasks_.clear();
+  task_start_.assign(1, 0);
+  // Which blocks go in which bundle: a colour's blocks in order, kLanes at a time; blocks that
+  // are not all contact points, and the overflow set, are solved alone.
+  std::vector<int>& lane_block = lane_block_;
+  lane_block.clear();
+  std::size_t count_wide = 0;
+  const std::size_t colours = colour_start_.size() - 1;  // the overflow set too
+  for (std::size_t c = 0; c < colours; ++c) {
+    const bool overflow = c + 1 == colours;
+    std::vector<int>& alone = alone_scratch_;
+    alone.clear();
+    Bundle bundle;
+    int lanes = 0;
+    const auto close = [&] {
+      if (lanes == 0) return;
+      for (int l = lanes; l < kLanes; ++l) {
+        bundle.a[static_cast<std::size_t>(l)] = bundle.b[static_cast<std::size_t>(l)] = none;
+        lane_block.push_back(-1);
+      }
+      bundle.first = static_cast<int>(count_wide);
+      count_wide += 3 * static_cast<std::size_t>(bundle.units);
+      tasks_.push_back(static_cast<int>(bundles_.size()));
+      bundles_.push_back(bundle);
+      bundle = Bundle{};
+      lanes = 0;
+    };
+    for (int s = colour_start_[c]; s < colour_start_[c + 1]; ++s) {
+      const auto k = static_cast<std::size_t>(s);
+      if (overflow || !settings_.wide || !bundles(k)) {
+        alone.push_back(-1 - s);
+        continue;
+      }
+      const CompactRow& r =
+          rows_[static_cast<std::size_t>(units_[static_cast<std::size_t>(blocks_[k])])];
+      const auto l = static_cast<std::size_t>(lanes);
+      bundle.a[l] = r.a;
+      bundle.b[l] = r.b;
+      bundle.moves_a[l] = r.moves_a;
+      bundle.moves_b[l] = r.moves_b;
+      bundle.count[l] = blocks_[k + 1] - blocks_[k];
+      bundle.units = std::max(bundle.units, bundle.count[l]);
+      lane_block.push_back(s);
+      if (++lanes == kLanes) close();
+    }
+    close();
+    tasks_.insert(tasks_.end(), alone.begin(), alone.end());
+    task_start_.push_back(static_cast<int>(tasks_.size()));
+  }
+  // The wide rows, the bundles split over the threads.
+  wide_.resize(count_wide);
+  parallel::forEach(static_cast<std::ptrdiff_t>(bundles_.size()), settings_.threads,
+                    kParallelPrepare / kLanes,
+                    [&](std::ptrdiff_t b) { fillBundle(static_cast<std::size_t>(b)); });
+}
+
+void SoftSolver::fillBundle(std::size_t k) {
+  // Lane l of unit j's rows from the lane's block's unit j (zero, and the spare impulse, where
+  // the block has fewer units).
+  const int spare = static_cast<int>(lambda_.size()) - 1;
+  const Bundle& bundle = bundles_[k];
+  for (int j = 0; j < bundle.units; ++j)
+    for (int r = 0; r < 3; ++r) {
+      WideRow& w = wide_[static_cast<std::size_t>(bundle.first + 3 * j + r)];
+      w = WideRow{};
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        const int s = lane_block_[k * kLanes + l];
+        if (s < 0 || j >= bundle.count[l]) {
+          w.lambda[l] = spare;
+          continue;
+        }
+        const auto i = static_cast<std::size_t>(
+            units_[static_cast<std::size_t>(blocks_[static_cast<std::size_t>(s)] + j)] + r);
+        const CompactRow& c = rows_[i];
+        for (int d = 0; d < 3; ++d) {
+          w.ja_v[d][l] = c.ja_v[d];
+          w.ja_w[d][l] = c.ja_w[d];
+          w.jb_v[d][l] = c.jb_v[d];
+          w.jb_w[d][l] = c.jb_w[d];
+          w.wa_v[d][l] = c.wa_v[d];
+          w.wa_w[d][l] = c.wa_w[d];
+          w.wb_v[d][l] = c.wb_v[d];
+          w.wb_w[d][l] = c.wb_w[d];
+        }
+        w.mass[l] = c.mass;
+        w.phi0[l] = c.phi0;
+        w.speed[l] = c.speed;
+        w.lo[l] = c.lo;
+        w.hi[l] = c.hi;
+        w.mu[l] = c.mu;
+        w.lambda[l] = index_[i];
+      }
+    }
 }
 
 SoftSolver::CompactRow SoftSolver::compactRow(const Row& r, std::span<const int> manifold,
@@ -210,23 +329,23 @@ std::span<const int> SoftSolver::colour(std::span<const Row> rows, std::span<con
 }
 
 template <class F>
-void SoftSolver::eachBlock(bool forward, F&& block) {
-  const int colours = static_cast<int>(colour_start_.size()) - 2;  // the overflow set apart
+void SoftSolver::eachTask(bool forward, F&& task) {
+  const int colours = static_cast<int>(task_start_.size()) - 2;  // the overflow set apart
   const auto colourAt = [&](int phase) {
     return static_cast<std::size_t>(forward ? phase : colours - 1 - phase);
   };
   parallel::forEachInPhases(
-      colours, settings_.threads, kParallelBlocks,
+      colours, settings_.threads, kParallelBlocks / kLanes,
       [&](int phase) {
         const std::size_t c = colourAt(phase);
-        return static_cast<std::ptrdiff_t>(colour_start_[c + 1] - colour_start_[c]);
+        return static_cast<std::ptrdiff_t>(task_start_[c + 1] - task_start_[c]);
       },
       [&](int phase, std::ptrdiff_t i) {
-        block(static_cast<std::size_t>(colour_start_[colourAt(phase)] + i));
+        task(tasks_[static_cast<std::size_t>(task_start_[colourAt(phase)] + i)]);
       });
   const auto overflow = static_cast<std::size_t>(colours);
-  for (int k = colour_start_[overflow]; k < colour_start_[overflow + 1]; ++k)
-    block(static_cast<std::size_t>(k));
+  for (int k = task_start_[overflow]; k < task_start_[overflow + 1]; ++k)
+    task(tasks_[static_cast<std::size_t>(k)]);
 }
 
 double SoftSolver::phi(const CompactRow& c) const {
@@ -263,7 +382,12 @@ void SoftSolver::move(double h) {
 }
 
 void SoftSolver::warmStart() {
-  eachBlock(true, [&](std::size_t k) {
+  eachTask(true, [&](int task) {
+    if (task >= 0) {
+      warmStartBundle(static_cast<std::size_t>(task));
+      return;
+    }
+    const auto k = static_cast<std::size_t>(-1 - task);
     const auto end = static_cast<std::size_t>(units_[static_cast<std::size_t>(blocks_[k + 1])]);
     for (auto i = static_cast<std::size_t>(units_[static_cast<std::size_t>(blocks_[k])]); i < end;
          ++i) {
@@ -278,7 +402,177 @@ void SoftSolver::sweep(bool bias) {
   // point's rows still in order): a one-way sweep leaves a bias towards the rows it visits last,
   // which walks a stack sideways.
   const bool forward = (sweeps_++ % 2) == 0;
-  eachBlock(forward, [&](std::size_t k) { solveBlock(k, forward, bias); });
+  eachTask(forward, [&](int task) {
+    if (task >= 0)
+      solveBundle(static_cast<std::size_t>(task), forward, bias);
+    else
+      solveBlock(static_cast<std::size_t>(-1 - task), forward, bias);
+  });
+}
+
+namespace {
+
+// The wide kernel's arithmetic, the scalar path's to the bit: the same operations in the same
+// order (Eigen's 3-vector dot is ((x0 y0 + x1 y1) + x2 y2), checked by SoftStep.WideIsScalar).
+using Lanes = SoftSolver::Lanes;
+[[gnu::always_inline]] inline Lanes dot(const Lanes* j, const Lanes (&x)[3]) {
+  return j[0] * x[0] + j[1] * x[1] + j[2] * x[2];
+}
+[[gnu::always_inline]] inline void addScaled(Lanes (&x)[3], const Lanes& s, const Lanes* w) {
+  for (int d = 0; d < 3; ++d) x[d] += s * w[d];
+}
+
+/// A bundle's bodies' velocities, lane by lane.
+struct WideVelocities {
+  Lanes va[3], wa[3], vb[3], wb[3];
+};
+
+template <class Bodies, class Bundle>
+[[gnu::always_inline]] inline void gather(const Bodies& bodies, const Bundle& bundle,
+                                          WideVelocities& x) {
+  for (std::size_t l = 0; l < SoftSolver::kLanes; ++l) {
+    const SoftSolver::Body& a = bodies[static_cast<std::size_t>(bundle.a[l])];
+    const SoftSolver::Body& b = bodies[static_cast<std::size_t>(bundle.b[l])];
+    for (int d = 0; d < 3; ++d) {
+      x.va[d][l] = a.v[d];
+      x.wa[d][l] = a.w[d];
+      x.vb[d][l] = b.v[d];
+      x.wb[d][l] = b.w[d];
+    }
+  }
+}
+
+/// Writes the lanes' moving bodies back (a colour's blocks share the static and kinematic ones).
+template <class Bodies, class Bundle>
+[[gnu::always_inline]] inline void scatter(Bodies& bodies, const Bundle& bundle,
+                                           const WideVelocities& x) {
+  for (std::size_t l = 0; l < SoftSolver::kLanes; ++l) {
+    if (bundle.moves_a[l]) {
+      SoftSolver::Body& a = bodies[static_cast<std::size_t>(bundle.a[l])];
+      a.v = Vec3(x.va[0][l], x.va[1][l], x.va[2][l]);
+      a.w = Vec3(x.wa[0][l], x.wa[1][l], x.wa[2][l]);
+    }
+    if (bundle.moves_b[l]) {
+      SoftSolver::Body& b = bodies[static_cast<std::size_t>(bundle.b[l])];
+      b.v = Vec3(x.vb[0][l], x.vb[1][l], x.vb[2][l]);
+      b.w = Vec3(x.wb[0][l], x.wb[1][l], x.wb[2][l]);
+    }
+  }
+}
+
+}  // namespace
+
+__attribute__((target_clones("avx2", "default"))) void SoftSolver::warmStartBundle(std::size_t k) {
+  // The scalar warm start's arithmetic: a row whose impulse is zero adds nothing.
+  const Bundle& bundle = bundles_[k];
+  WideVelocities x;
+  gather(bodies_, bundle, x);
+  const Lanes zero{};
+  const auto add = [&](Lanes(&v)[3], const Lanes& l, const Lanes* w)
+      __attribute__((always_inline)) {
+    for (int d = 0; d < 3; ++d) v[d] = l != zero ? v[d] + l * w[d] : v[d];
+  };
+  const auto end = static_cast<std::size_t>(bundle.first + 3 * bundle.units);
+  for (auto i = static_cast<std::size_t>(bundle.first); i < end; ++i) {
+    const WideRow& c = wide_[i];
+    Lanes l;
+    for (std::size_t j = 0; j < kLanes; ++j) l[j] = lambda_[static_cast<std::size_t>(c.lambda[j])];
+    add(x.va, l, c.wa_v);
+    add(x.wa, l, c.wa_w);
+    add(x.vb, l, c.wb_v);
+    add(x.wb, l, c.wb_w);
+  }
+  scatter(bodies_, bundle, x);
+}
+
+__attribute__((target_clones("avx2", "default"))) void SoftSolver::solveBundle(std::size_t k,
+                                                                               bool forward,
+                                                                               bool bias) {
+  const Bundle& bundle = bundles_[k];
+  // Gather the lanes' bodies (structure of arrays).
+  WideVelocities x;
+  gather(bodies_, bundle, x);
+  Lanes dpa[3], dqa[3], dpb[3], dqb[3];
+  for (std::size_t l = 0; l < kLanes; ++l) {
+    const Body& a = bodies_[static_cast<std::size_t>(bundle.a[l])];
+    const Body& b = bodies_[static_cast<std::size_t>(bundle.b[l])];
+    for (int d = 0; d < 3; ++d) {
+      dpa[d][l] = a.dp[d];
+      dqa[d][l] = a.dq[d];
+      dpb[d][l] = b.dp[d];
+      dqb[d][l] = b.dq[d];
+    }
+  }
+  Lanes count{};  // each lane's units, 1 for an empty lane
+  for (std::size_t l = 0; l < kLanes; ++l) count[l] = std::max(1, bundle.count[l]);
+  const Softness& soft = settings_.contact;
+  const double h = settings_.h;
+  const Lanes zero{}, one = zero + 1.0;
+  const auto load = [&](const WideRow& w) __attribute__((always_inline)) {
+    Lanes x;
+    for (std::size_t l = 0; l < kLanes; ++l) x[l] = lambda_[static_cast<std::size_t>(w.lambda[l])];
+    return x;
+  };
+  const auto store = [&](const WideRow& w, const Lanes& x, int unit)
+      __attribute__((always_inline)) {
+    for (std::size_t l = 0; l < kLanes; ++l)
+      if (unit < bundle.count[l]) lambda_[static_cast<std::size_t>(w.lambda[l])] = x[l];
+  };
+  const auto solveRow = [&](const WideRow& c, Lanes& l, const Lanes& target,
+                            const Lanes& mass_scale, const Lanes& impulse_scale, const Lanes& lo,
+                            const Lanes& hi) __attribute__((always_inline)) {
+    const Lanes rate =
+        dot(c.ja_v, x.va) + dot(c.ja_w, x.wa) + dot(c.jb_v, x.vb) + dot(c.jb_w, x.wb);
+    const Lanes delta = -c.mass * mass_scale * (rate - c.speed + target) - impulse_scale * l;
+    Lanes next = l + delta;  // std::clamp(next, lo, hi)
+    next = next < lo ? lo : (hi < next ? hi : next);
+    const Lanes applied = next - l;
+    addScaled(x.va, applied, c.wa_v);
+    addScaled(x.wa, applied, c.wa_w);
+    addScaled(x.vb, applied, c.wb_v);
+    addScaled(x.wb, applied, c.wb_w);
+    l = next;
+  };
+  for (int visit = 0; visit < bundle.units; ++visit) {
+    const int unit = forward ? visit : bundle.units - 1 - visit;
+    const WideRow* rows = &wide_[static_cast<std::size_t>(bundle.first + 3 * unit)];
+    // A lane whose block has fewer units visits nothing here: its rows have zero Jacobians and
+    // mass, so nothing moves, and its impulses are not stored.
+    {
+      const WideRow& c = rows[0];
+      Lanes l = load(c);
+      const Lanes error =
+          c.phi0 + dot(c.ja_v, dpa) + dot(c.ja_w, dqa) + dot(c.jb_v, dpb) + dot(c.jb_w, dqb);
+      const auto gap = error > zero;
+      Lanes target = zero, mass_scale = one, impulse_scale = zero;
+      if (bias) {
+        Lanes pushed = soft.bias_rate * error;  // std::max(pushed, -max_push_out)
+        pushed = pushed < -settings_.max_push_out ? zero - settings_.max_push_out : pushed;
+        target = pushed;
+        mass_scale = zero + soft.mass_scale;
+        impulse_scale = zero + soft.impulse_scale;
+      }
+      target = gap ? error / h : target;
+      mass_scale = gap ? one : mass_scale;
+      impulse_scale = gap ? zero : impulse_scale;
+      solveRow(c, l, target, mass_scale, impulse_scale, c.lo, c.hi);
+      store(c, l, unit);
+    }
+    // The friction rows' bound: mu times the mean normal impulse of the lane's manifold.
+    Lanes sum = zero;
+    for (int j = 0; j < bundle.units; ++j) {
+      const Lanes n = load(wide_[static_cast<std::size_t>(bundle.first + 3 * j)]);
+      sum += zero < n ? n : zero;  // std::max(0.0, n)
+    }
+    const Lanes bound = rows[1].mu * sum / count;
+    for (int r = 1; r < 3; ++r) {
+      const WideRow& c = rows[r];
+      Lanes l = load(c);
+      solveRow(c, l, zero, one, zero, zero - bound, bound);
+      store(c, l, unit);
+    }
+  }
+  scatter(bodies_, bundle, x);
 }
 
 void SoftSolver::solveBlock(std::size_t k, bool forward, bool bias) {

@@ -22,6 +22,13 @@
 // never take colour 0). The sweep solves the colours in turn, each colour's blocks split over the
 // threads; blocks that find no colour (a body in more than 64 of them) are solved last, in order,
 // on one thread. The results are the same to the bit for any thread count.
+//
+// Wide sweep (Box2D v3's wide contact solver, in doubles): a colour's contact blocks are solved
+// four at a time, one per lane of a structure-of-arrays copy of their rows, with AVX2 where the
+// processor has it (a clone chosen at load time) and two SSE2 halves where it has not. Each lane
+// does exactly the scalar path's operations, so the result is the scalar one to the bit
+// (tests/test_soft_solver.cpp); blocks that are not all contact points, and the overflow set,
+// take the scalar path.
 #pragma once
 
 #include <linx/row.hpp>
@@ -30,6 +37,7 @@
 #include "solver/graph_colouring.hpp"
 #include "solver/problem.hpp"
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -47,6 +55,10 @@ struct Softness {
 
 class SoftSolver {
  public:
+  /// The wide sweep's lanes: blocks of one colour solved side by side.
+  static constexpr int kLanes = 4;
+  using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
+
   /// The body state the substeps work on: velocities, and the motion since the step began.
   /// Aligned to cache lines: threads solving one colour write different bodies, and two bodies
   /// sharing a line made the two-thread sweep no faster than one (measured on 1,000 spheres).
@@ -63,6 +75,9 @@ class SoftSolver {
     double h = 0.0;             ///< substep (s)
     int substeps = 1;           ///< of the step
     int threads = 1;            ///< worker threads of the sweeps
+    /// Solve a colour's contact blocks kLanes at a time (false: one at a time, the scalar path
+    /// that the wide one matches to the bit; for tests and measurements).
+    bool wide = true;
   };
 
   /// Takes the rows (body indices into `bodies`, -1 for none; a friction row's `normal` an index
@@ -98,7 +113,9 @@ class SoftSolver {
   void restitution(std::span<const Bounce> bounces);
 
   /// The impulse of each row in the last substep (the next step's warm start).
-  std::span<const double> lambda() const { return lambda_; }
+  std::span<const double> lambda() const {
+    return std::span<const double>(lambda_).first(lambda_.size() - 1);
+  }
   /// The impulse of each row over the whole step (what contacts() reports).
   std::span<const double> total() const { return total_; }
   /// The largest complementarity violation of the last relax pass's impulses, as PGS reports it.
@@ -132,6 +149,42 @@ class SoftSolver {
   /// order_[units[u]] .. order_[units[u + 1] - 1]) and returns them in sweep order.
   std::span<const int> colour(std::span<const Row> rows, std::span<const int> units,
                               std::span<const int> blocks);
+  // The wide sweep: blocks of one colour (which share no moving body) solved side by side, one
+  // per lane, with the same arithmetic as the scalar path, so that each lane's result is the
+  // scalar one to the bit.
+
+  /// One row of a bundle's blocks, lane by lane (structure of arrays).
+  struct alignas(32) WideRow {  // aligned for the AVX2 clone of the sweep, whatever the target
+    Lanes ja_v[3], ja_w[3], jb_v[3], jb_w[3];
+    Lanes wa_v[3], wa_w[3], wb_v[3], wb_w[3];
+    Lanes mass, phi0, speed, lo, hi, mu;
+    std::array<int, kLanes> lambda;  // each lane's row in lambda_ (the spare entry for none)
+  };
+  /// Up to kLanes blocks of one colour whose units are contact points (a unilateral normal row
+  /// and two friction rows bounded by the manifold): unit j of every lane in wide rows
+  /// first + 3 j .. first + 3 j + 2.
+  struct Bundle {
+    int first = 0, units = 0;                   // its first wide row; the most units of its blocks
+    std::array<int, kLanes> a{}, b{}, count{};  // each lane's bodies and units (0: empty lane)
+    std::array<bool, kLanes> moves_a{}, moves_b{};
+  };
+  /// Whether block s (in sweep order) can be a bundle's lane.
+  bool bundles(std::size_t s) const;
+  /// Groups each colour's blocks into bundles and builds their wide rows.
+  void buildBundles();
+  /// Builds bundle k's wide rows from its blocks' compact rows.
+  void fillBundle(std::size_t k);
+  /// Applies bundle k's impulses to its bodies, as warmStart does a block's.
+  void warmStartBundle(std::size_t k);
+  /// Solves bundle k's blocks side by side, like solveBlock.
+  void solveBundle(std::size_t k, bool forward, bool bias);
+  std::vector<Bundle> bundles_;
+  std::vector<WideRow> wide_;
+  // Each colour's work: bundles (>= 0) then blocks solved alone (-1 - block); colours as in
+  // colour_start_.
+  std::vector<int> tasks_, task_start_;
+  std::vector<int> lane_block_, alone_scratch_;  // buildBundles' buffers
+
   /// A block's two bodies while its rows are solved: velocities, and the motion since the step
   /// began.
   struct Ends {
@@ -142,10 +195,11 @@ class SoftSolver {
   void solveBlock(std::size_t k, bool forward, bool bias);
   /// Solves a unit's rows: its normal (or lone) row, then its friction rows.
   void solveUnit(std::size_t u, bool bias, Ends& ends);
-  /// Calls block(b) for every block, colour by colour (backwards when `forward` is false), each
-  /// colour's blocks split over the threads, then the overflow set in order.
+  /// Calls task(t) for every task (a bundle, or a block solved alone), colour by colour
+  /// (backwards when `forward` is false), each colour's tasks split over the threads, then the
+  /// overflow set in order.
   template <class F>
-  void eachBlock(bool forward, F&& block);
+  void eachTask(bool forward, F&& task);
   std::vector<double> lambda_, total_;  // by row
   std::vector<Body> bodies_;            // and one more, always at rest, for an absent end
   Settings settings_;
