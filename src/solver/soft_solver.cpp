@@ -139,7 +139,7 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
   sweeps_ = 0;
 }
 
-bool SoftSolver::bundles(std::size_t s) const {
+bool SoftSolver::fitsBundle(std::size_t s) const {
   for (auto u = static_cast<std::size_t>(blocks_[s]); u < static_cast<std::size_t>(blocks_[s + 1]);
        ++u) {
     const auto first = static_cast<std::size_t>(units_[u]);
@@ -186,7 +186,7 @@ void SoftSolver::buildBundles() {
     };
     for (int s = colour_start_[c]; s < colour_start_[c + 1]; ++s) {
       const auto k = static_cast<std::size_t>(s);
-      if (overflow || !settings_.wide || !bundles(k)) {
+      if (overflow || !settings_.wide || !fitsBundle(k)) {
         alone.push_back(-1 - s);
         continue;
       }

@@ -169,7 +169,7 @@ class SoftSolver {
     std::array<bool, kLanes> moves_a{}, moves_b{};
   };
   /// Whether block s (in sweep order) can be a bundle's lane.
-  bool bundles(std::size_t s) const;
+  bool fitsBundle(std::size_t s) const;
   /// Groups each colour's blocks into bundles and builds their wide rows.
   void buildBundles();
   /// Builds bundle k's wide rows from its blocks' compact rows.
