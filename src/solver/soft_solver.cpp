@@ -161,8 +161,7 @@ void SoftSolver::buildBundles() {
   task_start_.assign(1, 0);
   // Which blocks go in which bundle: a colour's blocks in order, kLanes at a time; blocks that
   // are not all contact points, and the overflow set, are solved alone.
-  std::vector<int>& lane_block = lane_block_;
-  lane_block.clear();
+  lane_block_.clear();
   std::size_t count_wide = 0;
   const std::size_t colours = colour_start_.size() - 1;  // the overflow set too
   for (std::size_t c = 0; c < colours; ++c) {
@@ -175,7 +174,7 @@ void SoftSolver::buildBundles() {
       if (lanes == 0) return;
       for (int l = lanes; l < kLanes; ++l) {
         bundle.a[static_cast<std::size_t>(l)] = bundle.b[static_cast<std::size_t>(l)] = none;
-        lane_block.push_back(-1);
+        lane_block_.push_back(-1);
       }
       bundle.first = static_cast<int>(count_wide);
       count_wide += 3 * static_cast<std::size_t>(bundle.units);
@@ -199,7 +198,7 @@ void SoftSolver::buildBundles() {
       bundle.moves_b[l] = r.moves_b;
       bundle.count[l] = blocks_[k + 1] - blocks_[k];
       bundle.units = std::max(bundle.units, bundle.count[l]);
-      lane_block.push_back(s);
+      lane_block_.push_back(s);
       if (++lanes == kLanes) close();
     }
     close();
@@ -422,6 +421,15 @@ using Lanes = SoftSolver::Lanes;
   for (int d = 0; d < 3; ++d) x[d] += s * w[d];
 }
 
+/// The impulses of a wide row's lanes.
+template <class Impulses, class Indices>
+[[gnu::always_inline]] inline Lanes gatherImpulses(const Impulses& lambda, const Indices& rows) {
+  Lanes x;
+  for (std::size_t l = 0; l < SoftSolver::kLanes; ++l)
+    x[l] = lambda[static_cast<std::size_t>(rows[l])];
+  return x;
+}
+
 /// A bundle's bodies' velocities, lane by lane.
 struct WideVelocities {
   Lanes va[3], wa[3], vb[3], wb[3];
@@ -475,8 +483,7 @@ __attribute__((target_clones("avx2", "default"))) void SoftSolver::warmStartBund
   const auto end = static_cast<std::size_t>(bundle.first + 3 * bundle.units);
   for (auto i = static_cast<std::size_t>(bundle.first); i < end; ++i) {
     const WideRow& c = wide_[i];
-    Lanes l;
-    for (std::size_t j = 0; j < kLanes; ++j) l[j] = lambda_[static_cast<std::size_t>(c.lambda[j])];
+    const Lanes l = gatherImpulses(lambda_, c.lambda);
     add(x.va, l, c.wa_v);
     add(x.wa, l, c.wa_w);
     add(x.vb, l, c.wb_v);
@@ -509,9 +516,7 @@ __attribute__((target_clones("avx2", "default"))) void SoftSolver::solveBundle(s
   const double h = settings_.h;
   const Lanes zero{}, one = zero + 1.0;
   const auto load = [&](const WideRow& w) __attribute__((always_inline)) {
-    Lanes x;
-    for (std::size_t l = 0; l < kLanes; ++l) x[l] = lambda_[static_cast<std::size_t>(w.lambda[l])];
-    return x;
+    return gatherImpulses(lambda_, w.lambda);
   };
   const auto store = [&](const WideRow& w, const Lanes& x, int unit)
       __attribute__((always_inline)) {
