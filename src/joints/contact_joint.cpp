@@ -15,7 +15,8 @@ void relativeRow(const Vec3& d, const Vec3& ra, const Vec3& rb, Row& row) {
 }  // namespace
 
 void contactRows(const collision::ContactPoint& c, const BodyState& a, const BodyState& b,
-                 const ContactLaw& law, double h, std::span<Row, 3> rows, Vec3& t1, Vec3& t2) {
+                 const ContactLaw& law, double h, Row& normal, std::span<Row, 2> friction, Vec3& t1,
+                 Vec3& t2) {
   const Vec3& n = c.normal;
   const Vec3 ra = c.point - a.pose.position, rb = c.point - b.pose.position;
   const Vec3 rel = (b.v + b.w.cross(rb)) - (a.v + a.w.cross(ra));  // b's point relative to a's
@@ -28,9 +29,10 @@ void contactRows(const collision::ContactPoint& c, const BodyState& a, const Bod
     math::orthonormalBasis(n, t1, t2);
   }
 
-  Row& normal = rows[0];
   relativeRow(n, ra, rb, normal);
   normal.kind = RowKind::Unilateral;
+  normal.normal = -1;
+  normal.mu = 0.0;
   normal.lo = 0.0;
   normal.hi = kInfinity;
   normal.cfm = law.cfm;
@@ -57,7 +59,7 @@ void contactRows(const collision::ContactPoint& c, const BodyState& a, const Bod
   }
 
   for (int k = 1; k <= 2; ++k) {
-    Row& f = rows[static_cast<std::size_t>(k)];
+    Row& f = friction[static_cast<std::size_t>(k - 1)];
     relativeRow(k == 1 ? t1 : t2, ra, rb, f);
     f.kind = RowKind::Friction;
     f.normal = 0;

@@ -43,10 +43,12 @@ struct ContactLaw {
 /// Sliding speeds (m/s) above which the first tangent follows the sliding direction.
 inline constexpr double kSlidingSpeed = 1e-4;
 
-/// Fills rows[0] (normal) and rows[1], rows[2] (friction, `normal` = 0, the slot of the normal
-/// row) for contact c between bodies a and b in their current states, for a step h; writes the
-/// tangents it used. Row keys are the slots 0, 1, 2.
+/// Writes every field but the body indices of the normal row and the two friction rows
+/// (`normal` = 0, the slot of the normal row) of contact c between bodies a and b in their current
+/// states, for a step h, in place (the caller's row list: no copies); writes the tangents it used.
+/// Row keys are the slots 0, 1, 2.
 void contactRows(const collision::ContactPoint& c, const BodyState& a, const BodyState& b,
-                 const ContactLaw& law, double h, std::span<Row, 3> rows, Vec3& t1, Vec3& t2);
+                 const ContactLaw& law, double h, Row& normal, std::span<Row, 2> friction, Vec3& t1,
+                 Vec3& t2);
 
 }  // namespace linx::joints

@@ -102,7 +102,11 @@ class ContactStage {
   };
   std::vector<Previous> previous_;
   std::vector<int> stored_;  // store(): the records that got rows
-  const Impulse* previousImpulse(const ContactRecord& r, const Body& a) const;
+  // Per record: its pair's points in previous_ (found by findPrevious before the rows are built).
+  std::vector<std::pair<std::size_t, std::size_t>> previous_range_;
+  void findPrevious();
+  /// The warm-start impulse of record c, if the last step had its point.
+  const Impulse* previousImpulse(std::size_t c, const Body& a) const;
   double match_distance_ = 0.0;
 };
 
