@@ -130,7 +130,7 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
         for (int pos = units[static_cast<std::size_t>(blocks[b])];
              pos < units[static_cast<std::size_t>(blocks[b + 1])]; ++pos, ++i) {
           const auto k = static_cast<std::size_t>(order_[static_cast<std::size_t>(pos)]);
-          rows_[static_cast<std::size_t>(i)] = compactRow(rows[k], manifold, static_cast<int>(s));
+          compactRow(rows[k], manifold, static_cast<int>(s), rows_[static_cast<std::size_t>(i)]);
           index_[static_cast<std::size_t>(i)] = static_cast<int>(k);
           compact_[k] = i;
         }
@@ -212,7 +212,16 @@ void SoftSolver::buildBundles() {
                     [&](std::ptrdiff_t b) { fillBundle(static_cast<std::size_t>(b)); });
 }
 
+void SoftSolver::clearLane(WideRow& w, std::size_t l) {
+  for (int d = 0; d < 3; ++d) {
+    w.ja_v[d][l] = w.ja_w[d][l] = w.jb_v[d][l] = w.jb_w[d][l] = 0.0;
+    w.wa_v[d][l] = w.wa_w[d][l] = w.wb_v[d][l] = w.wb_w[d][l] = 0.0;
+  }
+  w.mass[l] = w.phi0[l] = w.speed[l] = w.lo[l] = w.hi[l] = w.mu[l] = 0.0;
+}
+
 void SoftSolver::fillBundle(std::size_t k) {
+  // Each lane is written field by field (clearing the whole wide row first was 40 % of this).
   // Lane l of unit j's rows from the lane's block's unit j (zero, and the spare impulse, where
   // the block has fewer units).
   const int spare = static_cast<int>(lambda_.size()) - 1;
@@ -220,10 +229,10 @@ void SoftSolver::fillBundle(std::size_t k) {
   for (int j = 0; j < bundle.units; ++j)
     for (int r = 0; r < 3; ++r) {
       WideRow& w = wide_[static_cast<std::size_t>(bundle.first + 3 * j + r)];
-      w = WideRow{};
       for (std::size_t l = 0; l < kLanes; ++l) {
         const int s = lane_block_[k * kLanes + l];
         if (s < 0 || j >= bundle.count[l]) {
+          clearLane(w, l);
           w.lambda[l] = spare;
           continue;
         }
@@ -251,10 +260,11 @@ void SoftSolver::fillBundle(std::size_t k) {
     }
 }
 
-SoftSolver::CompactRow SoftSolver::compactRow(const Row& r, std::span<const int> manifold,
-                                              int block) const {
+void SoftSolver::compactRow(const Row& r, std::span<const int> manifold, int block,
+                            CompactRow& c) const {
+  // Every field is written in place: value-initializing a local row first and copying it cost a
+  // quarter of this function (rep stos; perf, 1,000 spheres).
   const int none = static_cast<int>(bodies_.size()) - 1;
-  CompactRow c{};
   c.ja_v = r.Ja.head<3>();
   c.ja_w = r.Ja.tail<3>();
   c.jb_v = r.Jb.head<3>();
@@ -285,7 +295,6 @@ SoftSolver::CompactRow SoftSolver::compactRow(const Row& r, std::span<const int>
   c.moves_a = c.a != none && takesImpulses(a);
   c.moves_b = c.b != none && takesImpulses(b);
   c.rate0 = rate(c);
-  return c;
 }
 
 std::span<const int> SoftSolver::colour(std::span<const Row> rows, std::span<const int> units,

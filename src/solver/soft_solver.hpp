@@ -135,8 +135,8 @@ class SoftSolver {
     bool unilateral, friction, positional;  // positional: phi is a position error
     bool moves_a, moves_b;                  // the end takes impulses (not static or kinematic)
   };
-  /// Row r for the sweep; `block`: its block's place in the sweep.
-  CompactRow compactRow(const Row& r, std::span<const int> manifold, int block) const;
+  /// Writes row r for the sweep into c; `block`: its block's place in the sweep.
+  void compactRow(const Row& r, std::span<const int> manifold, int block, CompactRow& c) const;
   double phi(const CompactRow& c) const;
   double rate(const CompactRow& c) const;
   void apply(const CompactRow& c, double delta);
@@ -172,6 +172,8 @@ class SoftSolver {
   bool fitsBundle(std::size_t s) const;
   /// Groups each colour's blocks into bundles and builds their wide rows.
   void buildBundles();
+  /// Zeroes lane l of a wide row (an empty lane: no block, or a block with fewer units).
+  static void clearLane(WideRow& w, std::size_t l);
   /// Builds bundle k's wide rows from its blocks' compact rows.
   void fillBundle(std::size_t k);
   /// Applies bundle k's impulses to its bodies, as warmStart does a block's.
