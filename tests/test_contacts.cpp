@@ -374,5 +374,56 @@ TEST(CollisionFilter, RejectedBodyLeavesNoTrace) {
   EXPECT_NEAR(world.body(id).position().z(), 0.1, 1e-3);  // resting on the ground, not through it
 }
 
+// Resting bodies keep the last step's contact points (the narrowphase is skipped for a pair of
+// bodies that have not moved), so the points must follow whatever moves one of them between steps:
+// the geometry is the truth. A 0.2 m cube falls asleep on the ground; its four points are the
+// corners of its bottom face. Moved sideways with setPose while asleep (no wake), its points are
+// under its new place; lifted 1 m, it has none; put back and the ground lowered 5 cm, none; the
+// speculative margin widened past the gap, its points come back 5 cm below it.
+TEST(SleepingContacts, PointsFollowBodiesMovedBetweenSteps) {
+  for (const SolverType type : {SolverType::Auto, SolverType::Soft}) {
+    World world = makeWorld(type, 1.0 / 60.0);
+    const BodyId ground_id = world.createBody(ground(Vec3::UnitZ(), 0.5));
+    const BodyId box =
+        world.createBody(test::boxBody("box", 1.0, Vec3::Constant(0.2), Vec3(0.0, 0.0, 0.1)));
+    for (int i = 0; i < 600 && !world.isAsleep(box); ++i) world.step();
+    ASSERT_TRUE(world.isAsleep(box));
+    const auto cornersUnder = [&](double x, double gap) {
+      const auto contacts = world.contacts();
+      ASSERT_EQ(contacts.size(), 4u);
+      for (const Contact& c : contacts) {
+        EXPECT_NEAR(std::abs(c.point.x() - x), 0.1, 1e-3);
+        EXPECT_NEAR(std::abs(c.point.y()), 0.1, 1e-3);
+        EXPECT_NEAR(-c.depth, gap, 1e-3);
+      }
+    };
+    world.step();
+    cornersUnder(0.0, 0.0);
+
+    Pose pose = world.body(box).pose();
+    pose.position.x() += 0.5;
+    world.body(box).setPose(pose);
+    world.step();
+    cornersUnder(0.5, 0.0);
+
+    pose.position.z() += 1.0;
+    world.body(box).setPose(pose);
+    world.step();
+    EXPECT_TRUE(world.contacts().empty());
+
+    pose.position.z() -= 1.0;
+    world.body(box).setPose(pose);
+    Pose plane = world.body(ground_id).pose();
+    plane.position.z() -= 0.05;
+    world.body(ground_id).setPose(plane);
+    world.step();
+    EXPECT_TRUE(world.contacts().empty());
+
+    world.settings().contact.margin = 0.1;
+    world.step();
+    cornersUnder(0.5, 0.05);
+  }
+}
+
 }  // namespace
 }  // namespace linx

@@ -34,6 +34,8 @@ struct ContactSettings {
   /// eighth of the substep rate (60 Hz at 60 Hz and 8 substeps); a given value is capped there.
   double hertz = 0.0;
   double damping_ratio = 10.0;
+
+  bool operator==(const ContactSettings&) const = default;
 };
 
 /// When bodies fall asleep: an island (bodies linked by joints and contacts) whose bodies have all

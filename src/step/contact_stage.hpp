@@ -90,6 +90,16 @@ class ContactStage {
   std::vector<parallel::TaskOutput<std::vector<ContactRecord>>> chunk_records_;
   std::vector<std::size_t> chunk_offset_;  // where each chunk's records go in records_
   std::vector<ContactRecord> records_;
+  std::vector<ContactRecord> last_records_;  // the last detect's, in pair order
+  // Bodies that rest (no velocity at the last detect nor now, the same pose): their pairs reuse
+  // the last detect's records. What the last detect saw, to tell:
+  std::vector<std::uint8_t> resting_;
+  std::vector<Pose> detected_pose_;
+  std::vector<std::uint8_t> detected_still_;
+  ContactSettings detected_settings_;
+  double detected_h_ = 0.0;
+  bool detected_ = false;
+  void findResting(std::span<const Body> bodies, const ContactSettings& settings, double h);
   std::vector<Contact> contacts_;
   // The last step's points by shape pair (sorted), in body a's frame: a point is matched by its
   // key, and a point whose feature id changed (a manifold that switched its reference face) to
