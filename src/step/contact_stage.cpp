@@ -85,12 +85,6 @@ collision::Aabb sweptBox(const Body& body, const collision::Aabb& tight, double 
   return swept.expanded(0.5 * margin + spin);
 }
 
-/// Whether a point found within the swept margin can matter this step: it touches, lies within
-/// the speculative margin, or a body moves toward the other fast enough to close the gap in one
-/// step, even if the other stopped dead (gravity is in the velocities already). The swept margin
-/// of the broadphase bounds each body's whole speed in any direction; spheres falling side by side
-/// move across their normal and need no row between them. In a poured pile this drops three in
-/// four speculative points, with the same penetration.
 /// The shape pair of a record, or the pair itself (for searching records by pair).
 std::uint64_t pairOf(const ContactRecord& r) {
   return r.pair;
@@ -99,6 +93,12 @@ std::uint64_t pairOf(std::uint64_t pair) {
   return pair;
 }
 
+/// Whether a point found within the swept margin can matter this step: it touches, lies within
+/// the speculative margin, or a body moves toward the other fast enough to close the gap in one
+/// step, even if the other stopped dead (gravity is in the velocities already). The swept margin
+/// of the broadphase bounds each body's whole speed in any direction; spheres falling side by side
+/// move across their normal and need no row between them. In a poured pile this drops three in
+/// four speculative points, with the same penetration.
 bool mayTouch(const Body& a, const Body& b, const collision::ContactPoint& p, double margin,
               double h) {
   const double gap = -p.depth;
