@@ -727,9 +727,64 @@ TEST(SceneError, Joints) {
          s["joints"][0]["motor"] = {{"max_force", -1}};
        },
        "joints[0].motor.max_force", "must be >= 0, got -1"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"target_position", 1}};
+       },
+       "joints[0].motor.stiffness", "a servo (target_position) needs a stiffness > 0"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"stiffness", 10}, {"max_force", 1}};
+       },
+       "joints[0].motor.target_position", "a stiffness pulls towards a target_position"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"target_position", 1}, {"stiffness", -10}};
+       },
+       "joints[0].motor.stiffness", "must be >= 0, got -10"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"target_position", 1}, {"stiffness", 10}, {"gain", 1}};
+       },
+       "joints[0].motor.gain", "unknown field"},
+      {[](json& s) {
+         s["joints"][0]["spring"] = {{"rest", 1}};
+       },
+       "joints[0].spring", "needs a stiffness, a damping or both"},
+      {[](json& s) {
+         s["joints"][0]["spring"] = {{"stiffness", 1}, {"damping", -2}};
+       },
+       "joints[0].spring.damping", "must be >= 0, got -2"},
+      {[](json& s) {
+         s["joints"][0]["spring"] = {{"stiffness", 1}, {"length", 2}};
+       },
+       "joints[0].spring.length", "unknown field"},
+      {joint(R"({"name": "f", "type": "fixed", "body1": "a", "spring": {"stiffness": 1}})"),
+       "joints[0].spring", "not used by a fixed joint"},
       {[](json& s) { s["joints"][0]["erp"] = 2; }, "joints[0].erp", "must be between 0 and 1"},
       {[](json& s) { s["joints"][0]["cfm"] = -1; }, "joints[0].cfm", "must be >= 0"},
   });
+}
+
+TEST(SceneRead, DrivesAndSprings) {
+  json scene = baseScene();
+  scene["joints"][0]["motor"] = {
+      {"target_position", 0.5}, {"stiffness", 1e4}, {"damping", 20}, {"max_force", 30}};
+  scene["joints"][0]["spring"] = {{"stiffness", 5}, {"damping", 0.1}, {"rest", -0.2}};
+  const linx::Scene s = parse(scene);
+  const linx::JointDef& d = s.joints.at(0).def;
+  ASSERT_TRUE(d.motor && d.spring);
+  EXPECT_EQ(d.motor->target_position, 0.5);
+  EXPECT_EQ(d.motor->stiffness, 1e4);
+  EXPECT_EQ(d.motor->damping, 20.0);
+  EXPECT_EQ(d.motor->max_force, 30.0);
+  EXPECT_EQ(d.motor->target_velocity, 0.0);
+  EXPECT_EQ(d.spring->stiffness, 5.0);
+  EXPECT_EQ(d.spring->damping, 0.1);
+  EXPECT_EQ(d.spring->rest, -0.2);
+  // A servo and a damped motor need no bound; a velocity motor still does (errors above).
+  scene["joints"][0]["motor"] = {{"target_position", 0.5}, {"stiffness", 1e4}};
+  EXPECT_EQ(parse(scene).joints.at(0).def.motor->max_force, linx::kInfinity);
+  scene["joints"][0]["motor"] = {{"target_velocity", 2}, {"damping", 3}};
+  const linx::JointMotor damped = *parse(scene).joints.at(0).def.motor;
+  EXPECT_TRUE(damped.isServo());
+  EXPECT_EQ(damped.max_force, linx::kInfinity);
 }
 
 }  // namespace

@@ -22,11 +22,31 @@ struct JointLimits {
   double upper = kInfinity;
 };
 
-/// A velocity motor on a joint coordinate: drives its rate towards target_velocity with a force
-/// (N) or torque (N m) of at most max_force.
+/// A drive on a joint coordinate x (m for sliders, rad for hinges), acting with a force (N) or
+/// torque (N m) of at most max_force (docs/joints.md):
+/// - a velocity motor (the default): holds the rate x' at target_velocity;
+/// - a position servo (target_position given): F = stiffness (target_position - x)
+///   + damping (target_velocity - x'), a PD controller;
+/// - a damped velocity motor (damping > 0, no target_position): F = damping (target_velocity - x').
+/// Servos are integrated implicitly: stable at any gain.
 struct JointMotor {
-  double target_velocity = 0.0;  ///< (m/s or rad/s)
-  double max_force = 0.0;        ///< (N or N m), >= 0
+  double target_velocity = 0.0;                          ///< (m/s or rad/s)
+  double max_force = kInfinity;                          ///< (N or N m), >= 0; infinite: no bound
+  std::optional<double> target_position = std::nullopt;  ///< (m or rad): makes it a servo
+  double stiffness = 0.0;  ///< servo gain (N/m or N m/rad), >= 0; needs target_position
+  double damping = 0.0;    ///< (N s/m or N m s/rad), >= 0
+
+  /// A velocity motor holds its rate rigidly; a servo or damped motor acts as a spring-damper.
+  bool isServo() const { return target_position.has_value() || damping > 0.0; }
+};
+
+/// A spring and damper on a joint coordinate x: F = -stiffness (x - rest) - damping x'. Both terms
+/// are integrated implicitly where the stiffness needs it and without numerical damping where it
+/// does not (docs/joints.md): an undamped spring keeps its amplitude.
+struct JointSpring {
+  double stiffness = 0.0;  ///< (N/m or N m/rad), >= 0
+  double damping = 0.0;    ///< (N s/m or N m s/rad), >= 0
+  double rest = 0.0;       ///< coordinate at which the spring is relaxed (m or rad)
 };
 
 /// Plain definition of a joint. All fields in the world frame at creation. Not every type uses
@@ -40,6 +60,7 @@ struct JointDef {
   Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame
   std::optional<JointLimits> limits = std::nullopt;  ///< sliders and hinges
   std::optional<JointMotor> motor = std::nullopt;    ///< sliders and hinges
+  std::optional<JointSpring> spring = std::nullopt;  ///< sliders and hinges
   std::optional<double> erp = std::nullopt;          ///< overrides the world's error reduction
   std::optional<double> cfm = std::nullopt;  ///< overrides the world's constraint force mixing
   bool collide = false;  ///< the two joined bodies' shapes still collide with each other
@@ -52,12 +73,21 @@ struct BodyState {
   Vec3 w = Vec3::Zero();
 };
 
+/// Inverse mass and world-frame inverse inertia of one of a joint's two bodies (zero: the world,
+/// a static body).
+struct BodyInertia {
+  double inv_mass = 0.0;
+  Mat3 inv_inertia = Mat3::Zero();
+};
+
 /// What a joint needs to fill its rows.
 struct JointContext {
   BodyState b1, b2;
   double h = 0.0;    ///< step length (s)
   double erp = 0.2;  ///< effective error reduction for this joint
   double cfm = 0.0;  ///< effective constraint force mixing for this joint
+  /// The bodies' inertia, for drives and springs (their implicit share depends on it).
+  BodyInertia m1 = {}, m2 = {};
 };
 
 class Joint {
@@ -99,6 +129,7 @@ class Joint {
   /// Set or remove the motor / limits; throws std::invalid_argument as makeJoint does.
   void setMotor(std::optional<JointMotor> motor);
   void setLimits(std::optional<JointLimits> limits);
+  void setSpring(std::optional<JointSpring> spring);
 
  private:
   JointDef def_;
@@ -114,7 +145,7 @@ struct JointTypeInfo {
   std::string_view name;
   bool needs_anchor = false;    ///< the anchor shapes the constraint (else any point will do)
   bool uses_axis = false;       ///< JointDef::axis
-  bool has_coordinate = false;  ///< a free coordinate: accepts limits and a motor
+  bool has_coordinate = false;  ///< a free coordinate: accepts limits, a motor and a spring
 };
 
 /// The registered joint types, in registration order.

@@ -20,6 +20,9 @@ enum class RowKind : std::uint8_t {
   Unilateral,  ///< a one-sided inequality (limit, contact normal): takes part in projection
   Motor,       ///< a velocity target with a force bound: no position error
   Friction,    ///< bounded by mu times the impulse of the row `normal`
+  /// A spring-damper or servo on a joint coordinate: phi, erp and cfm make its force, which is
+  /// physics, not drift (no post-stabilization); the soft step keeps its impulse in the relax pass.
+  Drive,
 };
 
 struct Row {

@@ -406,10 +406,9 @@ class Reader {
   // --- Sections --------------------------------------------------------------------------------
 
   SolverSettings solver(const Node& n) const {
-    allowOnly(
-        n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
-            "post_stabilization", "projection", "projection_iterations", "projection_tolerance",
-            "geometric_stiffness"});
+    allowOnly(n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
+                  "post_stabilization", "projection", "projection_iterations",
+                  "projection_tolerance", "geometric_stiffness"});
     SolverSettings s;
     if (auto t = get(n, "type")) {
       const std::string type = string(*t);
@@ -719,8 +718,8 @@ class Reader {
 
   SceneJoint joint(const Node& n, const std::vector<BodyDef>& bodies,
                    const std::map<std::string, std::size_t>& body_index) const {
-    allowOnly(n, {"name", "type", "body1", "body2", "anchor", "axis", "limits", "motor", "erp",
-                  "cfm", "collide"});
+    allowOnly(n, {"name", "type", "body1", "body2", "anchor", "axis", "limits", "motor", "spring",
+                  "erp", "cfm", "collide"});
     SceneJoint joint;
     JointDef& d = joint.def;
     const Node name = require(n, "name");
@@ -786,9 +785,11 @@ class Reader {
     if (fields->has_coordinate) {
       if (auto v = get(n, "limits")) d.limits = limits(*v);
       if (auto v = get(n, "motor")) d.motor = motor(*v);
+      if (auto v = get(n, "spring")) d.spring = spring(*v);
     } else {
       unused("limits");
       unused("motor");
+      unused("spring");
     }
     if (auto v = get(n, "erp")) d.erp = unitInterval(*v);
     if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
@@ -808,11 +809,38 @@ class Reader {
   }
 
   JointMotor motor(const Node& n) const {
-    allowOnly(n, {"target_velocity", "max_force"});
+    allowOnly(n, {"target_velocity", "target_position", "stiffness", "damping", "max_force"});
     JointMotor m;
     if (auto v = get(n, "target_velocity")) m.target_velocity = number(*v);
-    m.max_force = nonNegative(require(n, "max_force"));
+    if (auto v = get(n, "target_position")) m.target_position = number(*v);
+    if (auto v = get(n, "stiffness")) m.stiffness = nonNegative(*v);
+    if (auto v = get(n, "damping")) m.damping = nonNegative(*v);
+    if (m.target_position && !(m.stiffness > 0.0)) {
+      fail(childPath(n.path, "stiffness"),
+           "a servo (target_position) needs a stiffness > 0 to pull towards it");
+    }
+    if (!m.target_position && m.stiffness > 0.0) {
+      fail(childPath(n.path, "target_position"),
+           "missing: a stiffness pulls towards a target_position");
+    }
+    // A rigid velocity motor needs its bound; a servo or a damped motor may be unbounded.
+    if (m.isServo()) {
+      if (auto v = get(n, "max_force")) m.max_force = nonNegative(*v);
+    } else {
+      m.max_force = nonNegative(require(n, "max_force"));
+    }
     return m;
+  }
+
+  JointSpring spring(const Node& n) const {
+    allowOnly(n, {"stiffness", "damping", "rest"});
+    JointSpring s;
+    if (auto v = get(n, "stiffness")) s.stiffness = nonNegative(*v);
+    if (auto v = get(n, "damping")) s.damping = nonNegative(*v);
+    if (auto v = get(n, "rest")) s.rest = number(*v);
+    if (!get(n, "stiffness") && !get(n, "damping"))
+      fail(n.path, "needs a stiffness, a damping or both");
+    return s;
   }
 
   const std::string& file_;

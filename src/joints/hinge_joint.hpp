@@ -8,7 +8,7 @@ class HingeJoint final : public Joint {
  public:
   HingeJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
   std::string_view type() const override { return "hinge"; }
-  int maxRows() const override { return 8; }  // 5 + two limits + motor
+  int maxRows() const override { return 5 + kCoordinateRows; }  // + limits, motor, spring
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;

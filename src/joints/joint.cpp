@@ -23,6 +23,13 @@ void Joint::setLimits(std::optional<JointLimits> limits) {
   def_ = next;
 }
 
+void Joint::setSpring(std::optional<JointSpring> spring) {
+  JointDef next = def_;
+  next.spring = spring;
+  joints::validate(*findJointType(type()), next);
+  def_ = next;
+}
+
 double Joint::error(const BodyState& b1, const BodyState& b2) const {
   // The rows' own phi is the error: equality rows count fully, limits only when overshot. Zero
   // velocities keep not-yet-reached limits out; h only scales the (unused) bias.

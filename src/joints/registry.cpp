@@ -43,13 +43,36 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("erp: must be in [0, 1]");
   if (def.cfm && !(*def.cfm >= 0.0 && std::isfinite(*def.cfm)))
     throw std::invalid_argument("cfm: must be finite and >= 0");
-  if (!t.has_coordinate && (def.limits || def.motor))
-    throw std::invalid_argument(fmt::format("a {} joint takes no limits or motor", t.name));
+  if (!t.has_coordinate && (def.limits || def.motor || def.spring))
+    throw std::invalid_argument(fmt::format("a {} joint takes no limits, motor or spring", t.name));
   if (def.limits && !(def.limits->lower <= def.limits->upper))
     throw std::invalid_argument("limits: lower must not exceed upper");
-  if (def.motor && !(std::isfinite(def.motor->target_velocity) &&
-                     std::isfinite(def.motor->max_force) && def.motor->max_force >= 0.0))
-    throw std::invalid_argument("motor: needs a finite target_velocity and max_force >= 0");
+  if (def.motor) validateMotor(*def.motor);
+  if (def.spring) validateSpring(*def.spring);
+}
+
+void validateMotor(const JointMotor& m) {
+  const auto gain = [](double v) { return std::isfinite(v) && v >= 0.0; };
+  if (!std::isfinite(m.target_velocity))
+    throw std::invalid_argument("motor.target_velocity: must be finite");
+  if (!(m.max_force >= 0.0)) throw std::invalid_argument("motor.max_force: must be >= 0");
+  if (!gain(m.stiffness)) throw std::invalid_argument("motor.stiffness: must be finite and >= 0");
+  if (!gain(m.damping)) throw std::invalid_argument("motor.damping: must be finite and >= 0");
+  if (m.target_position) {
+    if (!std::isfinite(*m.target_position))
+      throw std::invalid_argument("motor.target_position: must be finite");
+    if (!(m.stiffness > 0.0))
+      throw std::invalid_argument("motor.stiffness: a servo (target_position) needs stiffness > 0");
+  } else if (m.stiffness > 0.0) {
+    throw std::invalid_argument("motor.stiffness: needs a target_position to pull towards");
+  }
+}
+
+void validateSpring(const JointSpring& s) {
+  const auto gain = [](double v) { return std::isfinite(v) && v >= 0.0; };
+  if (!gain(s.stiffness)) throw std::invalid_argument("spring.stiffness: must be finite and >= 0");
+  if (!gain(s.damping)) throw std::invalid_argument("spring.damping: must be finite and >= 0");
+  if (!std::isfinite(s.rest)) throw std::invalid_argument("spring.rest: must be finite");
 }
 
 }  // namespace joints

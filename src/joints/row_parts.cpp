@@ -2,6 +2,7 @@
 
 #include "math/rotation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace linx::joints {
@@ -139,6 +140,34 @@ void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row) {
   row.speed = motor.target_velocity;
   row.lo = -ctx.h * motor.max_force;
   row.hi = ctx.h * motor.max_force;
+}
+
+double inverseMassAlong(const Row& row, const BodyInertia& m1, const BodyInertia& m2) {
+  const auto part = [](const Vec6& j, const BodyInertia& m) {
+    return m.inv_mass * j.head<3>().squaredNorm() + j.tail<3>().dot(m.inv_inertia * j.tail<3>());
+  };
+  return part(row.Ja, m1) + part(row.Jb, m2);
+}
+
+double implicitShare(double stiffness, double inverse_mass, double h) {
+  if (!(stiffness > 0.0) || !(inverse_mass > 0.0)) return kMinImplicitShare;
+  // (h omega)^2 with omega^2 = k / m of the row alone.
+  const double h2_omega2 = h * h * stiffness * inverse_mass;
+  return std::max(kMinImplicitShare, 1.0 - 1.0 / h2_omega2);
+}
+
+void driveRow(const JointContext& ctx, double stiffness, double damping, double target_rate,
+              double max_force, Row& row) {
+  const double h = ctx.h;
+  const double beta = implicitShare(stiffness, inverseMassAlong(row, ctx.m1, ctx.m2), h);
+  const double d = damping + beta * h * stiffness;  // the force's part in the new rate
+  row.kind = RowKind::Drive;
+  // J u+ + lambda / (h d) = (c v_t - k phi) / d, i.e. lambda = h (-k phi + c v_t - d J u+).
+  row.cfm = 1.0 / (h * d);
+  row.erp = h * stiffness / d;
+  row.speed = damping * target_rate / d;
+  row.lo = -h * max_force;
+  row.hi = h * max_force;
 }
 
 }  // namespace linx::joints

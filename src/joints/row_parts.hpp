@@ -73,15 +73,36 @@ inline constexpr double kAngularLimitMargin = 2e-2;  ///< (rad)
 /// Turns a coordinate row into a velocity motor row: J u = target, |lambda| <= h max_force.
 void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row);
 
-/// Row slots of a free coordinate's limits and motor (after a joint's equality rows).
-inline constexpr int kLowerLimitSlot = 5, kUpperLimitSlot = 6, kMotorSlot = 7;
+/// J M^-1 J^T of one row: the inverse of the mass that the row's direction alone moves.
+double inverseMassAlong(const Row& row, const BodyInertia& m1, const BodyInertia& m2);
+/// The smallest implicit share of a spring (see implicitShare).
+inline constexpr double kMinImplicitShare = 1e-4;
+/// How much of a spring's force is taken at the end of the step: the force is -k (x + beta h x'+),
+/// x' integrated to x by the step's symplectic Euler. beta = 0 is symplectic Euler: no numerical
+/// damping, stable while h omega < 2 (omega^2 = k / m, m the row's own mass, `1 / inverse_mass`);
+/// beta = 1 is implicit Euler: stable at any stiffness, the stiff limit settles in a step (what a
+/// servo wants), but it damps (18 % of the amplitude a period at 100 steps a period).
+/// Taken is 1 - 1 / (h omega)^2, at least kMinImplicitShare: none while h omega <= 1, then
+/// (h omega)^2 (1 - 2 beta) = 2 - (h omega)^2 < 4 (stable; the row's own mass is the lightest the
+/// body can move with, so the real omega is lower), tending to implicit Euler as k grows.
+double implicitShare(double stiffness, double inverse_mass, double h);
+/// Turns a coordinate row (J, phi = coordinate minus its target) into a drive row: the impulse is
+/// h F with F = -stiffness phi + damping (target_rate - J u+) - beta h stiffness J u+, bounded by
+/// |F| <= max_force (docs/joints.md).
+void driveRow(const JointContext& ctx, double stiffness, double damping, double target_rate,
+              double max_force, Row& row);
 
-/// Appends the limit rows (only those reached) and the motor row of a joint's free coordinate to
-/// rows[n...]; `coordinateRow(row)` fills a row with the coordinate's J and phi. Writes at most
-/// 3 rows; returns the new count.
+/// Row slots of a free coordinate's limits, motor and spring (after a joint's equality rows).
+inline constexpr int kLowerLimitSlot = 5, kUpperLimitSlot = 6, kMotorSlot = 7, kSpringSlot = 8;
+/// Rows a free coordinate may add: two limits, a motor, a spring.
+inline constexpr int kCoordinateRows = 4;
+
+/// Appends the limit rows (only those reached), the motor row and the spring row of a joint's free
+/// coordinate to rows[n...]; `coordinateRow(row)` fills a row with the coordinate's J and phi.
+/// Writes at most kCoordinateRows rows; returns the new count.
 template <class CoordinateRow>
-int limitAndMotorRows(const JointContext& ctx, const JointDef& def, double margin,
-                      CoordinateRow&& coordinateRow, std::span<Row> rows, int n) {
+int coordinateRows(const JointContext& ctx, const JointDef& def, double margin,
+                   CoordinateRow&& coordinateRow, std::span<Row> rows, int n) {
   if (def.limits) {
     for (const bool lower : {true, false}) {
       Row& row = rows[static_cast<std::size_t>(n)];
@@ -93,10 +114,25 @@ int limitAndMotorRows(const JointContext& ctx, const JointDef& def, double margi
     }
   }
   if (def.motor) {
+    const JointMotor& motor = *def.motor;
     Row& row = rows[static_cast<std::size_t>(n)];
     coordinateRow(row);
-    motorRow(ctx, *def.motor, row);
+    if (motor.isServo()) {
+      row.phi = motor.target_position ? row.phi - *motor.target_position : 0.0;
+      driveRow(ctx, motor.target_position ? motor.stiffness : 0.0, motor.damping,
+               motor.target_velocity, motor.max_force, row);
+    } else {
+      motorRow(ctx, motor, row);
+    }
     row.key = kMotorSlot;
+    ++n;
+  }
+  if (def.spring && (def.spring->stiffness > 0.0 || def.spring->damping > 0.0)) {
+    Row& row = rows[static_cast<std::size_t>(n)];
+    coordinateRow(row);
+    row.phi -= def.spring->rest;
+    driveRow(ctx, def.spring->stiffness, def.spring->damping, 0.0, kInfinity, row);
+    row.key = kSpringSlot;
     ++n;
   }
   return n;

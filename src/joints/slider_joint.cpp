@@ -1,5 +1,6 @@
 // Slider (prismatic) joint: relative rotation locked, relative translation only along the axis n
-// (fixed in body 2). 5 rows, plus a limit row when the position reaches a bound and a motor row.
+// (fixed in body 2). 5 rows, plus a limit row when the position reaches a bound, a motor row and a
+// spring row.
 // The anchor points, coincident at creation, separate by d = (p1 + r1) - (p2 + r2):
 //   lock:    C = R2 log(q2^-1 q1 q0^-1) = 0                   J_k = [ 0, e_k | 0, -e_k ]
 //   linear:  C_j = t_j . d = 0, t_1, t_2 _|_ n, fixed in body 2
@@ -7,7 +8,8 @@
 //            both bodies rotate together, because t_j turns with body 2)
 //   position s = n . d (body 1 relative to body 2 along n, m, zero at creation), same J form
 //   limits:  s >= lower, s <= upper (unilateral, only when reached)
-//   motor:   J u = target velocity, |lambda| <= h max_force
+//   motor:   J u = target velocity, |lambda| <= h max_force; a servo or a spring is a drive row
+//            on s (joints/row_parts.hpp, driveRow)
 #include "joints/slider_joint.hpp"
 
 namespace linx::joints {
@@ -30,7 +32,7 @@ int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   for (int k = 0; k < 5; ++k) rows[k].key = k;
 
   const Vec3 n = ctx.b2.pose.orientation * frames_.axis2;
-  return limitAndMotorRows(
+  return coordinateRows(
       ctx, def(), kLinearLimitMargin, [&](Row& row) { linearRow(arms, n, row); }, rows, 5);
 }
 

@@ -6,8 +6,13 @@
 namespace linx::joints {
 
 /// Throws std::invalid_argument naming the field: a non-finite anchor, a zero axis, erp outside
-/// [0, 1], a negative cfm, limits or a motor on a type without a coordinate, inverted limits, a
-/// negative or non-finite motor force.
+/// [0, 1], a negative cfm, limits, a motor or a spring on a type without a coordinate, inverted
+/// limits, and what validateMotor and validateSpring refuse.
 void validate(const JointTypeInfo& type, const JointDef& def);
+/// A negative max_force, a non-finite target, negative or non-finite gains, a servo
+/// (target_position) without stiffness, a stiffness without a target_position.
+void validateMotor(const JointMotor& motor);
+/// Negative or non-finite stiffness or damping, a non-finite rest position.
+void validateSpring(const JointSpring& spring);
 
 }  // namespace linx::joints

@@ -13,6 +13,28 @@ BodyState stateOf(std::span<const Body> bodies, BodyId id) {
 }
 
 namespace {
+BodyInertia inertiaOf(std::span<const Body> bodies, BodyId id) {
+  if (id.isWorld()) return {};
+  const Body& b = bodies[static_cast<std::size_t>(id.index)];
+  if (b.isStatic()) return {};
+  return BodyInertia{b.inverseMass(), b.inverseInertiaWorld()};
+}
+}  // namespace
+
+JointContext contextOf(std::span<const Body> bodies, const Joint& j, const SolverSettings& settings,
+                       double h) {
+  const JointDef& def = j.def();
+  JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
+                   def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
+  // Only drives (servos, springs) read the inertia: the others skip rotating it to the world.
+  if (def.spring || (def.motor && def.motor->isServo())) {
+    ctx.m1 = inertiaOf(bodies, j.body1());
+    ctx.m2 = inertiaOf(bodies, j.body2());
+  }
+  return ctx;
+}
+
+namespace {
 int solverIndex(std::span<const Body> bodies, BodyId id) {
   if (id.isWorld() || bodies[static_cast<std::size_t>(id.index)].isStatic()) return -1;
   return id.index;
@@ -34,8 +56,7 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
   std::size_t used = 0;
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
-    JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
-                     j.def().erp.value_or(settings.erp), j.def().cfm.value_or(settings.cfm)};
+    const JointContext ctx = contextOf(bodies, j, settings, h);
     const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
     for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
     const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());

@@ -15,6 +15,10 @@ namespace linx::step {
 
 /// A joint's state of a body: identity and zero velocity for the world frame.
 BodyState stateOf(std::span<const Body> bodies, BodyId id);
+/// What joint `j` fills its rows from for a step of length h: its bodies' states and inertia, its
+/// error reduction and cfm (its own, else the world's).
+JointContext contextOf(std::span<const Body> bodies, const Joint& j, const SolverSettings& settings,
+                       double h);
 
 /// Assembles the rows of all joints for a step of length h. Solver body indices are body indices,
 /// -1 for the world and for static bodies; joints between two such are skipped (nothing moves).

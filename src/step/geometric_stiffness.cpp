@@ -23,8 +23,7 @@ void GeometricStiffness::measure(std::span<const std::unique_ptr<Joint>> joints,
     if (std::all_of(impulse.begin(), impulse.end(), [](double l) { return l == 0.0; })) continue;
 
     const Joint& j = *joints[ji];
-    const JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
-                           j.def().erp.value_or(settings.erp), j.def().cfm.value_or(settings.cfm)};
+    const JointContext ctx = contextOf(bodies, j, settings, h);
     Mat12 k = j.stiffness(ctx, own, impulse);
     // Only the bodies that move count: a static end's force is no coordinate of the system.
     const int ends[2] = {own.front().body_a, own.front().body_b};

@@ -44,13 +44,21 @@ void SubstepJoints::warmStart(std::span<solver::SoftSolver::Body> bodies) const 
 
 SolverReport SubstepJoints::solve(std::span<solver::SoftSolver::Body> bodies, bool bias,
                                   const SolverSettings& settings, double h, int threads) {
-  // The change of each impulse, within the bounds that the impulse so far leaves.
+  // The change of each impulse, within the bounds that the impulse so far leaves. A drive's force
+  // (a spring, a servo) is physics: it acts once a substep, with the poses it started from. Its
+  // row holds J u + cfm (lambda + delta) = target, its whole impulse of the substep; the relax pass
+  // keeps that impulse (delta 0) rather than re-solve it at the moved poses without the spring.
   shifted_ = rows_;
   for (std::size_t k = 0; k < rows_.size(); ++k) {
     Row& r = shifted_[k];
     r.lo -= lambda_[k];
     r.hi -= lambda_[k];
-    if (!bias) r.erp = 0.0;
+    if (r.kind == RowKind::Drive) {
+      r.speed -= r.cfm * lambda_[k];
+      if (!bias) r.lo = r.hi = 0.0;
+    } else if (!bias) {
+      r.erp = 0.0;
+    }
   }
   gathered_.resize(bodies.size());
   for (std::size_t i = 0; i < bodies.size(); ++i)

@@ -143,8 +143,10 @@ void World::step() {
   }
   time_ = clock_origin_ + static_cast<double>(++clock_steps_) * h;
   const auto& rows = impl_->step.rows.rows;
-  const bool motors =
-      std::any_of(rows.begin(), rows.end(), [](const Row& r) { return r.kind == RowKind::Motor; });
+  // Motors and servos drive; a spring's energy is not counted in the check's.
+  const bool motors = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
+    return r.kind == RowKind::Motor || r.kind == RowKind::Drive;
+  });
   impl_->check.end(bodies_, settings_.gravity, faults, motors, steps_, time_);
 }
 
