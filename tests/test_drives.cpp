@@ -65,7 +65,7 @@ class SpringOscillator : public testing::TestWithParam<SolverType> {};
 
 TEST_P(SpringOscillator, KeepsItsPeriodAndAmplitudeOverTenPeriods) {
   // m = 2 kg, k = 50 N/m: omega = 5 rad/s; released 0.1 m from its rest position, 100 steps a
-  // period. Symplectic Euler's period is longer by (omega h)^2 / 24 = 1.6e-4; it keeps the
+  // period. Symplectic Euler's period is shorter by (omega h)^2 / 24 = 1.6e-4; it keeps the
   // amplitude (no numerical damping), where implicit Euler loses 18 % a period.
   const double m = 2.0, k = 50.0, rest = 0.1;
   const double omega = std::sqrt(k / m), period = 2.0 * kPi / omega, h = period / 100.0;
