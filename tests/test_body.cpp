@@ -41,7 +41,7 @@ TEST(Body, ForcesAndTorquesGiveNewtonEulerAccelerations) {
   w.body(id).applyTorque(Vec3(0.0, 0.0, 0.5));
   w.step();
   EXPECT_NEAR(w.body(id).linearVelocity().x(), 8.0 / 4.0 * s.timestep, 1e-15);
-  const double izz = d.inertia(2, 2);
+  const double izz = (*d.inertia)(2, 2);
   EXPECT_NEAR(w.body(id).angularVelocity().z(), 0.5 / izz * s.timestep, 1e-14);
   // Loads last one step.
   w.step();
@@ -74,6 +74,65 @@ TEST(Body, RejectsBadDefinitions) {
   d.position.x() = 0.0;
   w.createBody(d);
   EXPECT_THROW(w.createBody(d), std::invalid_argument);  // duplicate name
+}
+
+TEST(Body, MassAndInertiaComeFromTheShapesWhenLeftOut) {
+  World w;
+  // Densities only: a 0.1 m steel sphere, m = rho 4/3 pi r^3, I = 2/5 m r^2; and a 0.2 x 0.4 x 0.6
+  // m box offset by 0.5 m along x beside it: the centre of mass moves to the common one.
+  BodyDef d;
+  d.name = "compound";
+  d.position = Vec3(1, 2, 3);
+  d.shapes = {ShapeDef{.type = ShapeType::Sphere, .radius = 0.1, .density = 7800.0},
+              ShapeDef{.type = ShapeType::Box,
+                       .size = Vec3(0.2, 0.4, 0.6),
+                       .position = Vec3(0.5, 0, 0),
+                       .density = 1000.0}};
+  const Body& b = w.body(w.createBody(d));
+  const double ms = 7800.0 * 4.0 / 3.0 * M_PI * 1e-3, mb = 1000.0 * 0.2 * 0.4 * 0.6;
+  const double x = mb * 0.5 / (ms + mb);  // the common centre, from the sphere's
+  EXPECT_NEAR(b.mass(), ms + mb, 1e-9);
+  EXPECT_NEAR((b.position() - Vec3(1 + x, 2, 3)).norm(), 0.0, 1e-12);
+  // Izz about the common centre: 2/5 ms r^2 + ms x^2 + mb (0.2^2 + 0.4^2) / 12 + mb (0.5 - x)^2.
+  const double izz =
+      0.4 * ms * 0.01 + ms * x * x + mb * (0.04 + 0.16) / 12.0 + mb * (0.5 - x) * (0.5 - x);
+  EXPECT_NEAR(b.inertiaBody()(2, 2), izz, 1e-9);
+  // A mass alone: the inertia of the shape filled to it (a 2 kg box: m (b^2 + c^2) / 12).
+  BodyDef e = test::boxBody("box", 2.0, Vec3(0.2, 0.4, 0.6), Vec3::Zero());
+  e.inertia.reset();
+  EXPECT_NEAR(w.body(w.createBody(e)).inertiaBody()(0, 0), 2.0 * (0.16 + 0.36) / 12.0, 1e-12);
+}
+
+TEST(Body, MassPropertiesThatContradictOrAreMissingAreRefused) {
+  World w;
+  const auto message = [&](const BodyDef& d) {
+    try {
+      w.createBody(d);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  BodyDef d;
+  d.name = "b";
+  EXPECT_EQ(message(d), "shapes: no solid shape to compute the mass from");
+  d.inertia = Mat3::Identity();
+  EXPECT_EQ(message(d), "inertia: give the mass with the inertia, or neither");
+  d.inertia.reset();
+  d.mass = 1.0;
+  EXPECT_EQ(message(d), "inertia: missing (give it, or a solid shape to compute it from)");
+  d.mass.reset();
+  d.shapes = {ShapeDef{.type = ShapeType::Sphere, .radius = 0.1}};
+  EXPECT_EQ(message(d), "shapes[0].density: a positive density is needed to compute the mass");
+  // A mass and a density that disagree: one of them would be ignored.
+  d.shapes[0].density = 1000.0;
+  d.mass = 1.0;
+  EXPECT_EQ(message(d).substr(0, 40), "mass: 1 kg, but the shapes' densities ma");
+  // ... and that agree: accepted.
+  d.mass = 1000.0 * 4.0 / 3.0 * M_PI * 1e-3;
+  EXPECT_EQ(message(d), "(accepted)");
+  d.name = "";
+  EXPECT_EQ(message(d), "name: must not be empty");
 }
 
 // Intermediate-axis (Dzhanibekov) spin: I = diag(1, 2, 3) kg m^2, spin 6 rad/s about the middle

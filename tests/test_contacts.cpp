@@ -317,6 +317,8 @@ bool pushApart(const std::function<void(World&, BodyId, BodyId, ShapeDef&, Shape
   BodyDef a, b;
   a.name = "a";
   b.name = "b";
+  a.mass = b.mass = 1.0;
+  a.inertia = b.inertia = Mat3::Identity();
   b.position = Vec3(0, 0, 0.15);
   // The filters must be set before the bodies exist; joints after.
   setup(world, kWorldBody, kWorldBody, sa, sb);
@@ -361,12 +363,16 @@ TEST(CollisionFilter, RejectedBodyLeavesNoTrace) {
   world.createBody(ground(Vec3::UnitZ(), 0.5));
   BodyDef flat;
   flat.name = "flat";
+  flat.mass = 1.0;
+  flat.inertia = Mat3::Identity();
   flat.shapes = {ShapeDef{.type = ShapeType::Box, .size = Vec3::Ones()},
                  ShapeDef{.type = ShapeType::Convex,
                           .points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0)}}};
   EXPECT_THROW(world.createBody(flat), std::invalid_argument);
   BodyDef ball;
   ball.name = "ball";
+  ball.mass = 1.0;
+  ball.inertia = Mat3::Identity();
   ball.position = Vec3(0, 0, 0.1);
   ball.shapes = {ShapeDef{.type = ShapeType::Sphere, .radius = 0.1}};
   const BodyId id = world.createBody(ball);

@@ -105,6 +105,8 @@ TEST(PushOut, DeepOverlapPartsNoFasterThanTheCap) {
   BodyDef a, b;
   a.name = std::string(1, 'a');  // not = "a": GCC 12's -Wrestrict misfires on it here
   b.name = std::string(1, 'b');
+  a.mass = b.mass = 1.0;
+  a.inertia = b.inertia = Mat3::Identity();
   b.position = Vec3(0.0, 0.0, 0.15);
   a.shapes = b.shapes = {ball};
   const BodyId ia = world.createBody(a), ib = world.createBody(b);

@@ -21,15 +21,15 @@ Gap gluedAgainstCombined(double h) {
   BodyDef d1 = test::boxBody("a", 2.0, Vec3(0.4, 0.2, 0.1), Vec3(0, 0, 1));
   BodyDef d2 = test::boxBody("b", 1.0, Vec3(0.1, 0.3, 0.2), Vec3(0.3, 0.1, 1.05));
   d2.orientation = Quat(Eigen::AngleAxisd(0.6, Vec3(1, 1, 0).normalized()));
-  const double m = d1.mass + d2.mass;
-  const Vec3 c = (d1.mass * d1.position + d2.mass * d2.position) / m;
+  const double m = *d1.mass + *d2.mass;
+  const Vec3 c = (*d1.mass * d1.position + *d2.mass * d2.position) / m;
   // Combined inertia about c, in the world frame at creation (parallel axis theorem).
   Mat3 inertia = Mat3::Zero();
   for (const BodyDef* d : {&d1, &d2}) {
     const Mat3 r = d->orientation.toRotationMatrix();
     const Vec3 o = d->position - c;
-    inertia += r * d->inertia * r.transpose() +
-               d->mass * (o.squaredNorm() * Mat3::Identity() - o * o.transpose());
+    inertia += r * *d->inertia * r.transpose() +
+               *d->mass * (o.squaredNorm() * Mat3::Identity() - o * o.transpose());
   }
   const Vec3 v(1.0, -0.5, 3.0), omega(2.0, -1.0, 4.0);
   d1.linear_velocity = v + omega.cross(d1.position - c);
@@ -59,7 +59,7 @@ Gap gluedAgainstCombined(double h) {
     const Body& ba = glued.body(a);
     const Body& bb = glued.body(b);
     const Body& bo = single.body(o);
-    const Vec3 centre = (d1.mass * ba.position() + d2.mass * bb.position()) / m;
+    const Vec3 centre = (*d1.mass * ba.position() + *d2.mass * bb.position()) / m;
     gap.position = std::max(gap.position, (centre - bo.position()).norm());
     // Body a's orientation is the combined body's rotation applied to its initial one.
     gap.rotation =

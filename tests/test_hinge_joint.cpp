@@ -252,7 +252,14 @@ TEST(Hinge, SettersRejectWhatCreationRejects) {
   EXPECT_THROW(j.setLimits(JointLimits{.lower = 1.0, .upper = -1.0}), std::invalid_argument);
   EXPECT_FALSE(j.def().motor.has_value());  // a refused change leaves the joint as it was
   const BodyId b = p.world.createBody(test::boxBody("b", 1.0, Vec3(1, 1, 1), Vec3(0, 0, -3)));
-  const JointId ball = p.world.createJoint("ball", JointDef{.name = "ball", .body1 = b});
+  const JointId ball =
+      p.world.createJoint("ball", JointDef{.name = "ball", .body1 = b, .anchor = Vec3::Zero()});
+  // A joint that turns about its anchor needs one; a name is needed to find it.
+  EXPECT_THROW(p.world.createJoint("hinge", JointDef{.name = "no anchor", .body1 = b}),
+               std::invalid_argument);
+  EXPECT_THROW(
+      p.world.createJoint("ball", JointDef{.name = "", .body1 = b, .anchor = Vec3::Zero()}),
+      std::invalid_argument);
   EXPECT_THROW(p.world.joint(ball).setLimits(JointLimits{}), std::invalid_argument);
 }
 

@@ -502,6 +502,8 @@ std::vector<Body> makeBodies(int n, std::vector<int> statics = {}) {
   for (int i = 0; i < n; ++i) {
     BodyDef d;
     d.name = std::to_string(i);
+    d.mass = 1.0;
+    d.inertia = Mat3::Identity();
     d.is_static = std::find(statics.begin(), statics.end(), i) != statics.end();
     out.emplace_back(d);
   }

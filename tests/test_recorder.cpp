@@ -61,6 +61,7 @@ linx::World makeWorld() {
   linx::BodyDef bob;
   bob.name = "bob";
   bob.position = linx::Vec3(1.0 / 3.0, 0, 0);
+  bob.mass = 1.0;
   bob.inertia = linx::Mat3::Identity() * 0.01;
   const linx::BodyId b = world.createBody(bob);
   linx::BodyDef other = bob;

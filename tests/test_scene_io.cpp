@@ -221,7 +221,7 @@ linx::Mat3 inertiaOf(const std::string& shape, double mass) {
   json scene = json::parse(R"({"bodies": [{"name": "a"}]})");
   scene["bodies"][0]["mass"] = mass;
   scene["bodies"][0]["shapes"] = json::array({json::parse(shape)});
-  return parse(scene).bodies[0].inertia;
+  return *parse(scene).bodies[0].inertia;
 }
 
 TEST(SceneRead, InertiaFromShapes) {
@@ -493,14 +493,14 @@ TEST(SceneReader, MassFromShapeDensities) {
       {"type": "box", "size": [1, 1, 1], "position": [0.5, 0, 0], "density": 3000}]}]})",
                                              "scene.json");
   const linx::BodyDef& b = scene.bodies[0];
-  EXPECT_DOUBLE_EQ(b.mass, 4000.0);
+  EXPECT_DOUBLE_EQ(*b.mass, 4000.0);
   EXPECT_NEAR(b.position.x(), 1.25, 1e-12);
   EXPECT_NEAR(b.shapes[0].position.x(), -0.75, 1e-12);
   EXPECT_NEAR(b.shapes[1].position.x(), 0.25, 1e-12);
   // The stated velocity was the origin's; the centre, 0.25 m away, moves at w x 0.25 x.
   EXPECT_NEAR((b.linear_velocity - linx::Vec3(0, 2.5, 0)).norm(), 0.0, 1e-12);
   // Izz about the centre of mass: each cube m/6 plus m d^2 (d = 0.75 and 0.25).
-  EXPECT_NEAR(b.inertia(2, 2), 1000.0 / 6 + 1000 * 0.5625 + 3000.0 / 6 + 3000 * 0.0625, 1e-9);
+  EXPECT_NEAR((*b.inertia)(2, 2), 1000.0 / 6 + 1000 * 0.5625 + 3000.0 / 6 + 3000 * 0.0625, 1e-9);
 }
 
 TEST(SceneReader, ContactAndSleepBlocks) {
@@ -556,6 +556,12 @@ TEST(SceneError, Bodies) {
          s["bodies"][0]["shapes"] = json::parse(R"([{"type": "sphere", "radius": 1}])");
        },
        "bodies[0].shapes[0].density", "missing required field (the body gives no mass"},
+      {[](json& s) {
+         // 2 kg stated, 4189 kg from the density: one of them would be ignored.
+         s["bodies"][0]["shapes"] =
+             json::parse(R"([{"type": "sphere", "radius": 1, "density": 1000}])");
+       },
+       "bodies[0].mass", "2 kg, but the shapes' densities make 4188.79"},
       {[](json& s) { s["bodies"][0]["mass"] = 0; }, "bodies[0].mass", "must be > 0, got 0"},
       {[](json& s) { s["bodies"][0]["mass"] = -2; }, "bodies[0].mass", "must be > 0, got -2"},
       {[](json& s) { s["bodies"][1]["static"] = true, s["bodies"][1]["mass"] = 0; },

@@ -45,15 +45,15 @@ class LinxEngine final : public Engine {
     world_ = linx::World(settings);
     ids_.reserve(scene.bodies.size());
     for (const Body& b : scene.bodies) {
-      linx::BodyDef def;
-      def.name = b.name;
-      def.is_static = b.is_static;
-      def.mass = b.mass;
-      def.inertia = b.inertia.asDiagonal();
-      def.position = b.position;
-      def.orientation = b.orientation;
-      def.linear_velocity = b.velocity;
-      def.angular_velocity = b.angular_velocity;
+      linx::BodyDef def{.name = b.name,
+                        .mass = b.mass,
+                        .inertia = linx::Mat3(b.inertia.asDiagonal()),
+                        .position = b.position,
+                        .orientation = b.orientation,
+                        .linear_velocity = b.velocity,
+                        .angular_velocity = b.angular_velocity,
+                        .is_static = b.is_static,
+                        .shapes = {}};
       if (b.shape.kind != Shape::Kind::None) def.shapes.push_back(shapeOf(b.shape, scene.friction));
       ids_.push_back(world_.createBody(def));
     }

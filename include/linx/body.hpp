@@ -5,22 +5,30 @@
 #include <linx/shape.hpp>
 #include <linx/types.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace linx {
 
 /// Plain definition of a body, with defaults. All vectors are in the world frame at creation.
+/// A dynamic body's mass properties come from what it gives (World::createBody completes them,
+/// completeMassProperties in mass_properties.hpp):
+/// - mass and inertia: as given;
+/// - mass only: the inertia of its solid shapes filled uniformly to that mass, about `position`;
+/// - neither: mass, centre of mass and inertia of its solid shapes at their densities; `position`
+///   is then the shapes' origin and the body's centre of mass moves to the shapes' common centre.
+/// A mass that the shapes' densities contradict, or an inertia without a mass, is refused.
 struct BodyDef {
   std::string name;
-  double mass = 1.0;                     ///< (kg), > 0 unless the body is static
-  Mat3 inertia = Mat3::Identity();       ///< about the centre of mass, body frame (kg m^2)
-  Vec3 position = Vec3::Zero();          ///< centre of mass, world frame (m)
-  Quat orientation = Quat::Identity();   ///< body frame relative to the world
-  Vec3 linear_velocity = Vec3::Zero();   ///< of the centre of mass, world frame (m/s)
-  Vec3 angular_velocity = Vec3::Zero();  ///< world frame (rad/s)
-  bool is_static = false;                ///< infinite mass: never moves
-  std::vector<ShapeDef> shapes;          ///< for drawing now and contacts later
+  std::optional<double> mass = std::nullopt;   ///< (kg), > 0 unless the body is static
+  std::optional<Mat3> inertia = std::nullopt;  ///< about the centre of mass, body frame (kg m^2)
+  Vec3 position = Vec3::Zero();                ///< centre of mass, world frame (m)
+  Quat orientation = Quat::Identity();         ///< body frame relative to the world
+  Vec3 linear_velocity = Vec3::Zero();         ///< of the centre of mass, world frame (m/s)
+  Vec3 angular_velocity = Vec3::Zero();        ///< world frame (rad/s)
+  bool is_static = false;                      ///< infinite mass: never moves
+  std::vector<ShapeDef> shapes;                ///< for drawing now and contacts later
 };
 
 /// Opaque index of a body in its World. Index -1 stands for the fixed world frame.

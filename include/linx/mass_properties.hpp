@@ -38,4 +38,16 @@ bool isSolid(ShapeType type);
 /// no solid shape.
 void setMassFromShapes(BodyDef& body);
 
+/// The inertia about the body frame's origin of a body's solid shapes filled uniformly to `mass`.
+/// Throws std::invalid_argument if the body has no solid shape.
+Mat3 uniformShapesInertia(const BodyDef& body, double mass);
+
+/// Completes a dynamic body's mass properties where it leaves them out (see BodyDef): no mass,
+/// setMassFromShapes; a mass without inertia, that of the shapes at their densities if they have
+/// them, else uniformShapesInertia. Static bodies are left as they are. Throws
+/// std::invalid_argument, the message starting with the field: a mass that the shapes' densities
+/// contradict (one would be ignored), an inertia without a mass, a mass without inertia and
+/// without a solid shape, and what setMassFromShapes refuses.
+void completeMassProperties(BodyDef& body);
+
 }  // namespace linx

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -134,6 +135,45 @@ void setMassFromShapes(BodyDef& body) {
   body.position += offset;
   body.linear_velocity += body.angular_velocity.cross(offset);
   for (ShapeDef& s : body.shapes) s.position -= total.center;
+}
+
+Mat3 uniformShapesInertia(const BodyDef& body, double mass) {
+  double volume = 0.0;
+  for (const ShapeDef& s : body.shapes)
+    if (isSolid(s.type)) volume += shapeVolume(s);
+  if (!(volume > 0.0))
+    throw std::invalid_argument("inertia: missing (give it, or a solid shape to compute it from)");
+  std::vector<MassProperties> parts;
+  for (const ShapeDef& s : body.shapes)
+    if (isSolid(s.type)) parts.push_back(shapeMassProperties(s, mass / volume));
+  return combine(parts).inertiaAboutOrigin();
+}
+
+void completeMassProperties(BodyDef& body) {
+  if (body.is_static) return;
+  const bool densities = std::any_of(body.shapes.begin(), body.shapes.end(), [](const ShapeDef& s) {
+    return isSolid(s.type) && s.density.has_value();
+  });
+  if (!body.mass) {
+    if (body.inertia)
+      throw std::invalid_argument("inertia: give the mass with the inertia, or neither");
+    setMassFromShapes(body);  // names a shape without a density, or the lack of shapes
+    return;
+  }
+  if (densities) {
+    // Both: they must agree (a body read from a scene has both, the mass made from the densities).
+    BodyDef from_shapes = body;
+    from_shapes.mass.reset();
+    from_shapes.inertia.reset();
+    setMassFromShapes(from_shapes);
+    if (!(std::abs(*from_shapes.mass - *body.mass) <= 1e-9 * *body.mass))
+      throw std::invalid_argument(
+          fmt::format("mass: {} kg, but the shapes' densities make {} kg (give one or the other)",
+                      *body.mass, *from_shapes.mass));
+    if (!body.inertia) body = from_shapes;
+    return;
+  }
+  if (!body.inertia) body.inertia = uniformShapesInertia(body, *body.mass);
 }
 
 }  // namespace linx

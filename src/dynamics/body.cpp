@@ -18,10 +18,13 @@ Body::Body(const BodyDef& def)
     inv_inertia_body_.setZero();
     return;
   }
-  mass_ = def.mass;
-  inv_mass_ = 1.0 / def.mass;
+  if (!def.mass || !def.inertia)
+    throw std::invalid_argument(
+        "Body: a dynamic body needs its mass and inertia (World::createBody completes them)");
+  mass_ = *def.mass;
+  inv_mass_ = 1.0 / mass_;
   // Symmetrize: a full tensor given with round-off asymmetry must still be a valid inertia.
-  inertia_body_ = 0.5 * (def.inertia + def.inertia.transpose());
+  inertia_body_ = 0.5 * (*def.inertia + def.inertia->transpose());
   inv_inertia_body_ = inertia_body_.inverse();
 }
 

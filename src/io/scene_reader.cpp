@@ -681,37 +681,40 @@ class Reader {
                          shapeTypeName(b.shapes[k].type)));
     }
     const auto mass = get(n, "mass");
+    const auto given_inertia = get(n, "inertia");
+    if (mass) b.mass = positive(*mass);
+    if (given_inertia) b.inertia = inertia(*given_inertia);
+    if (b.is_static) return b;
+    // What completeMassProperties would refuse, named by its place in the file.
     const bool solid = std::any_of(b.shapes.begin(), b.shapes.end(),
                                    [](const ShapeDef& s) { return isSolid(s.type); });
+    const auto density = [&](std::size_t k) {
+      return childPath(itemPath(childPath(n.path, "shapes"), k), "density");
+    };
     if (mass) {
-      b.mass = positive(*mass);
-    } else if (!b.is_static) {
+      if (!given_inertia && !solid)
+        fail(childPath(n.path, "inertia"),
+             "missing required field (give the inertia, or a shape to compute it from)");
+    } else {
       // The mass, centre of mass and inertia of the shapes at their densities.
       if (!solid) fail(childPath(n.path, "mass"), "missing required field");
       for (std::size_t k = 0; k < b.shapes.size(); ++k) {
         if (isSolid(b.shapes[k].type) && !b.shapes[k].density)
-          fail(childPath(itemPath(childPath(n.path, "shapes"), k), "density"),
+          fail(density(k),
                "missing required field (the body gives no mass: every shape needs a density)");
       }
-      if (n.value.contains("inertia"))
+      if (given_inertia)
         fail(childPath(n.path, "inertia"), "give the mass with the inertia, or neither");
-      setMassFromShapes(b);
-      return b;
     }
-    if (auto v = get(n, "inertia")) {
-      b.inertia = inertia(*v);
-    } else if (solid) {
-      // Solids of the body's mass at one density, about the body origin (docs/scene-format.md).
-      double volume = 0.0;
-      for (const ShapeDef& s : b.shapes)
-        if (isSolid(s.type)) volume += shapeVolume(s);
-      std::vector<MassProperties> parts;
-      for (const ShapeDef& s : b.shapes)
-        if (isSolid(s.type)) parts.push_back(shapeMassProperties(s, b.mass / volume));
-      b.inertia = combine(parts).inertiaAboutOrigin();
-    } else if (!b.is_static) {
-      fail(childPath(n.path, "inertia"),
-           "missing required field (give the inertia, or a shape to compute it from)");
+    // No mass: the shapes at their densities; a mass without inertia: its solids filled
+    // uniformly, about the body origin (docs/scene-format.md). The API's message starts with the
+    // field.
+    try {
+      completeMassProperties(b);
+    } catch (const std::invalid_argument& e) {
+      const std::string message = e.what();
+      const auto colon = message.find(": ");
+      fail(childPath(n.path, message.substr(0, colon)), message.substr(colon + 2));
     }
     return b;
   }

@@ -95,6 +95,9 @@ std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, con
                                  const BodyState& b2) {
   const JointTypeInfo* t = findJointType(type);
   if (!t) throw std::invalid_argument(fmt::format("unknown joint type '{}'", type));
+  if (t->needs_anchor && !def.anchor)
+    throw std::invalid_argument(
+        fmt::format("anchor: a {} joint needs one (the point it turns about)", t->name));
   JointDef resolved = def;
   if (!resolved.anchor) resolved.anchor = b1.pose.position;
   joints::validate(*t, resolved);

@@ -2,6 +2,8 @@
 // named stages in step/step.hpp; World::step() runs `substeps` passes of it, then checks the state.
 #include <linx/world.hpp>
 
+#include <linx/mass_properties.hpp>
+
 #include "dynamics/energy.hpp"
 #include "parallel/parallel_for.hpp"
 #include "step/assembly.hpp"
@@ -30,18 +32,21 @@ World::~World() = default;
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
-BodyId World::createBody(const BodyDef& def) {
-  if (findBody(def.name))
-    throw std::invalid_argument(fmt::format("duplicate body name '{}'", def.name));
+BodyId World::createBody(const BodyDef& given) {
+  if (given.name.empty()) throw std::invalid_argument("name: must not be empty");
+  if (findBody(given.name))
+    throw std::invalid_argument(fmt::format("duplicate body name '{}'", given.name));
+  BodyDef def = given;
+  completeMassProperties(def);
   if (!def.position.allFinite() || !def.orientation.coeffs().allFinite() ||
       !def.linear_velocity.allFinite() || !def.angular_velocity.allFinite())
     throw std::invalid_argument("pose and velocities must be finite");
   if (def.orientation.norm() < 1e-12) throw std::invalid_argument("orientation: zero quaternion");
   if (!def.is_static) {
-    if (!(def.mass > 0.0) || !std::isfinite(def.mass))
+    if (!(*def.mass > 0.0) || !std::isfinite(*def.mass))
       throw std::invalid_argument("mass: must be finite and > 0");
-    const Mat3 sym = 0.5 * (def.inertia + def.inertia.transpose());
-    if (!def.inertia.allFinite() || sym.llt().info() != Eigen::Success)
+    const Mat3 sym = 0.5 * (*def.inertia + def.inertia->transpose());
+    if (!def.inertia->allFinite() || sym.llt().info() != Eigen::Success)
       throw std::invalid_argument("inertia: must be finite, symmetric and positive definite");
   }
   for (std::size_t k = 0; k < def.shapes.size(); ++k) {
@@ -72,6 +77,7 @@ JointId World::createJoint(std::string_view type, const JointDef& def) {
     throw std::invalid_argument("body1: must be a body of this world");
   if (!valid(def.body2)) throw std::invalid_argument("body2: not a body of this world");
   if (def.body1 == def.body2) throw std::invalid_argument("body1 and body2 are the same body");
+  if (def.name.empty()) throw std::invalid_argument("name: must not be empty");
   if (findJoint(def.name))
     throw std::invalid_argument(fmt::format("duplicate joint name '{}'", def.name));
   joints_.push_back(makeJoint(type, def, bodyState(def.body1), bodyState(def.body2)));
