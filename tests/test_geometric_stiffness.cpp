@@ -21,7 +21,7 @@ using test::randomVec;
 TEST(GeometricStiffness, ClosedFormsMatchTheRowsFiniteDifferences) {
   std::mt19937 rng(11);
   int compared = 0;
-  for (const char* type : {"hinge", "ball", "fixed"}) {
+  for (const char* type : {"hinge", "ball", "fixed", "universal"}) {
     for (int trial = 0; trial < 20; ++trial) {
       const BodyState c1 = randomState(rng), c2 = randomState(rng);
       JointDef def{.name = "j", .anchor = randomVec(rng, 1.0), .axis = randomVec(rng, 1.0)};
@@ -29,7 +29,9 @@ TEST(GeometricStiffness, ClosedFormsMatchTheRowsFiniteDifferences) {
         // Limits on both sides of the coordinate and a motor: every row the hinge can write.
         def.limits = JointLimits{-0.05, 0.05};
         def.motor = JointMotor{1.0, 10.0};
+        def.spring = JointSpring{.stiffness = 30.0, .damping = 0.5, .rest = 0.2};
       }
+      if (std::string(type) == "universal") def.axis2 = def.axis.cross(randomVec(rng, 1.0));
       std::unique_ptr<Joint> j = makeJoint(type, def, c1, c2);
       // Off the pose of creation: the joint open, and its hinge past its limits.
       const BodyState b1 = randomState(rng), b2 = randomState(rng);
@@ -50,7 +52,7 @@ TEST(GeometricStiffness, ClosedFormsMatchTheRowsFiniteDifferences) {
       ++compared;
     }
   }
-  EXPECT_EQ(compared, 60);
+  EXPECT_EQ(compared, 80);
 }
 
 TEST(GeometricStiffness, HangingBobIsHeldWithThePendulumsStiffness) {

@@ -58,6 +58,8 @@ struct JointDef {
   /// A point on the joint (m), world frame at creation; default: body1's centre of mass.
   std::optional<Vec3> anchor = std::nullopt;
   Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame
+  /// Universal joint: `axis` turns with body 1 and `axis2` with body 2, perpendicular at creation.
+  Vec3 axis2 = Vec3::UnitY();
   std::optional<JointLimits> limits = std::nullopt;  ///< sliders and hinges
   std::optional<JointMotor> motor = std::nullopt;    ///< sliders and hinges
   std::optional<JointSpring> spring = std::nullopt;  ///< sliders and hinges
@@ -135,7 +137,8 @@ class Joint {
   JointDef def_;
 };
 
-/// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball") from its definition
+/// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball", "universal") from its
+/// definition
 /// and the two bodies' states at creation. Throws std::invalid_argument for an unknown type or a
 /// definition the type cannot accept (a zero axis, inverted limits, a negative motor force).
 std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
@@ -145,6 +148,7 @@ struct JointTypeInfo {
   std::string_view name;
   bool needs_anchor = false;    ///< the anchor shapes the constraint (else any point will do)
   bool uses_axis = false;       ///< JointDef::axis
+  bool uses_axis2 = false;      ///< JointDef::axis2 as well ("axis1" and "axis2" in a scene)
   bool has_coordinate = false;  ///< a free coordinate: accepts limits, a motor and a spring
 };
 

@@ -138,9 +138,11 @@ std::string runSceneJson(const Scene& scene, const World& world, int every) {
     j["anchor2"] = vec(localPoint(world, def.body2, anchor));
     const JointTypeInfo* info = findJointType(joint.type());
     if (info && info->uses_axis) {
+      // A universal joint's two arms; otherwise one axis seen from both bodies.
       const Vec3 axis = def.axis.normalized();
+      const Vec3 axis2 = info->uses_axis2 ? def.axis2.normalized() : axis;
       j["axis1"] = vec(localDirection(world, def.body1, axis));
-      j["axis2"] = vec(localDirection(world, def.body2, axis));
+      j["axis2"] = vec(localDirection(world, def.body2, axis2));
     }
     joints.push_back(j);
   }

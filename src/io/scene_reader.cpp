@@ -721,8 +721,8 @@ class Reader {
 
   SceneJoint joint(const Node& n, const std::vector<BodyDef>& bodies,
                    const std::map<std::string, std::size_t>& body_index) const {
-    allowOnly(n, {"name", "type", "body1", "body2", "anchor", "axis", "limits", "motor", "spring",
-                  "erp", "cfm", "collide"});
+    allowOnly(n, {"name", "type", "body1", "body2", "anchor", "axis", "axis1", "axis2", "limits",
+                  "motor", "spring", "erp", "cfm", "collide"});
     SceneJoint joint;
     JointDef& d = joint.def;
     const Node name = require(n, "name");
@@ -779,10 +779,23 @@ class Reader {
       d.anchor = bodies[static_cast<std::size_t>(d.body1.index)].position;
     }
 
-    if (fields->uses_axis) {
-      d.axis = direction(require(n, "axis"));
-    } else {
+    if (fields->uses_axis2) {
+      d.axis = direction(require(n, "axis1"));
+      const Node axis2 = require(n, "axis2");
+      d.axis2 = direction(axis2);
+      const double cosine = d.axis.normalized().dot(d.axis2.normalized());
+      if (std::abs(cosine) > 1e-6)
+        fail(axis2.path, fmt::format("must be perpendicular to axis1 (they are {:.6g} deg apart)",
+                                     std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI));
       unused("axis");
+    } else {
+      if (fields->uses_axis) {
+        d.axis = direction(require(n, "axis"));
+      } else {
+        unused("axis");
+      }
+      unused("axis1");
+      unused("axis2");
     }
 
     if (fields->has_coordinate) {

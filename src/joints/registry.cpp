@@ -3,6 +3,7 @@
 #include "joints/fixed_joint.hpp"
 #include "joints/hinge_joint.hpp"
 #include "joints/slider_joint.hpp"
+#include "joints/universal_joint.hpp"
 #include "joints/validation.hpp"
 
 #include <fmt/format.h>
@@ -22,14 +23,15 @@ std::unique_ptr<Joint> make(const JointDef& def, const BodyState& b1, const Body
   return std::make_unique<T>(def, b1, b2);
 }
 
-//                      name      anchor axis   coordinate
-constexpr std::array<JointTypeInfo, 4> kInfo{{{"fixed", false, false, false},
-                                              {"slider", false, true, true},
-                                              {"hinge", true, true, true},
-                                              {"ball", true, false, false}}};
+//                      name         anchor axis   axis2  coordinate
+constexpr std::array<JointTypeInfo, 5> kInfo{{{"fixed", false, false, false, false},
+                                              {"slider", false, true, false, true},
+                                              {"hinge", true, true, false, true},
+                                              {"ball", true, false, false, false},
+                                              {"universal", true, true, true, false}}};
 constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>, &make<joints::SliderJoint>, &make<joints::HingeJoint>,
-    &make<joints::BallJoint>};
+    &make<joints::BallJoint>, &make<joints::UniversalJoint>};
 
 }  // namespace
 
@@ -39,6 +41,8 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("anchor: not a finite vector");
   if (t.uses_axis && !(def.axis.allFinite() && def.axis.norm() > 1e-12))
     throw std::invalid_argument("axis: must be a finite non-zero vector");
+  if (t.uses_axis2 && !(def.axis2.allFinite() && def.axis2.norm() > 1e-12))
+    throw std::invalid_argument("axis2: must be a finite non-zero vector");
   if (def.erp && !(*def.erp >= 0.0 && *def.erp <= 1.0))
     throw std::invalid_argument("erp: must be in [0, 1]");
   if (def.cfm && !(*def.cfm >= 0.0 && std::isfinite(*def.cfm)))
