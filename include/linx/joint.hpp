@@ -68,6 +68,12 @@ struct JointDef {
   bool collide = false;  ///< the two joined bodies' shapes still collide with each other
 };
 
+/// A joint's force (N) and torque (N m) on a body, world frame (World::jointReaction).
+struct JointReaction {
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();
+};
+
 /// State of one of a joint's two bodies (the world frame: identity pose, zero velocity).
 struct BodyState {
   Pose pose;
@@ -124,6 +130,8 @@ class Joint {
   virtual Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                           std::span<const double> lambda) const;
 
+  /// The anchor in body1's frame: where the joint's reaction torque is taken.
+  const Vec3& anchor1() const { return anchor1_; }
   const std::string& name() const { return def_.name; }
   BodyId body1() const { return def_.body1; }
   BodyId body2() const { return def_.body2; }
@@ -134,7 +142,10 @@ class Joint {
   void setSpring(std::optional<JointSpring> spring);
 
  private:
+  friend std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def,
+                                          const BodyState& b1, const BodyState& b2);
   JointDef def_;
+  Vec3 anchor1_ = Vec3::Zero();
 };
 
 /// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball", "universal") from its

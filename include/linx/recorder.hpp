@@ -1,6 +1,6 @@
 // Writes a run's trajectory and reports as CSV files (see docs/scene-format.md, "Outputs"):
 //   DIR/bodies.csv  time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz
-//   DIR/joints.csv  time,joint,coordinate,error
+//   DIR/joints.csv  time,joint,coordinate,error,fx,fy,fz,tx,ty,tz
 //   DIR/world.csv   time,kinetic_energy,potential_energy,total_energy,max_joint_error,
 //                   solver_iterations,residual
 //   DIR/contacts.csv time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse   (when asked for)

@@ -149,6 +149,11 @@ class World {
   std::optional<double> jointCoordinate(JointId id) const;
   /// The joint's largest position error (m or rad).
   double jointError(JointId id) const;
+  /// What the joint applied to its body1 over the last step (world frame): the force and the
+  /// torque about the joint's anchor (where it sits on body1). body2 received the opposite of
+  /// both, about the same point. Limits, motors, servos and springs included; zero before the
+  /// first step; the soft step's are its last substep's (zero for a sleeping island there).
+  JointReaction jointReaction(JointId id) const;
   /// Largest error over all joints.
   double maxJointError() const;
   Energy energy() const;

@@ -29,7 +29,7 @@ constexpr std::array<std::string_view, kOutputCount> kFileNames = {"bodies.csv",
                                                                    "world.csv", "contacts.csv"};
 constexpr std::array<std::string_view, kOutputCount> kHeaders = {
     "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz",
-    "time,joint,coordinate,error",
+    "time,joint,coordinate,error,fx,fy,fz,tx,ty,tz",
     "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual",
     "time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse",
 };
@@ -117,8 +117,10 @@ void Recorder::record(const World& world) {
   for (int i = 0; i < world.jointCount(); ++i) {
     const JointId id{i};
     const std::optional<double> coordinate = world.jointCoordinate(id);
-    fmt::print(joints, "{},{},{},{}\n", t, csvField(world.joint(id).name()),
-               coordinate ? fmt::format("{}", *coordinate) : std::string(), world.jointError(id));
+    const JointReaction r = world.jointReaction(id);
+    fmt::print(joints, "{},{},{},{},{},{},{},{},{},{}\n", t, csvField(world.joint(id).name()),
+               coordinate ? fmt::format("{}", *coordinate) : std::string(), world.jointError(id),
+               r.force.x(), r.force.y(), r.force.z(), r.torque.x(), r.torque.y(), r.torque.z());
   }
 
   const Energy e = world.energy();

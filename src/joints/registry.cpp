@@ -105,7 +105,10 @@ std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, con
   JointDef resolved = def;
   if (!resolved.anchor) resolved.anchor = b1.pose.position;
   joints::validate(*t, resolved);
-  return kMake[static_cast<std::size_t>(t - kInfo.data())](resolved, b1, b2);
+  std::unique_ptr<Joint> joint =
+      kMake[static_cast<std::size_t>(t - kInfo.data())](resolved, b1, b2);
+  joint->anchor1_ = b1.pose.toLocal(*resolved.anchor);
+  return joint;
 }
 
 }  // namespace linx

@@ -244,6 +244,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     if (r.row >= 0 && r.law.restitution > 0.0)
       state.bounces.push_back(
           solver::SoftSolver::Bounce{r.row, r.law.restitution, r.law.restitution_threshold});
+  state.joint_loads.measure(joints.rows(), joints.impulses(), h, scene.joints, scene.bodies);
   solver.restitution(state.bounces);
   toBodies();
   std::copy(solver.lambda().begin(), solver.lambda().end(), state.rows.lambda.begin());
@@ -259,10 +260,15 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
 
 /// store: the impulses, for the next pass's warm start and the contacts() report (the soft
 /// step's: their sum over its substeps).
-void storeImpulses(const Scene& scene, State& state, bool soft) {
+void storeImpulses(const Scene& scene, State& state, double h, bool soft) {
   const Rows& r = state.rows;
-  // The soft step's joints stored theirs after each substep.
-  if (!soft) state.joint_warm.store(std::span<const Row>(r.rows).first(r.joint_rows), r.lambda);
+  // The soft step's joints stored theirs after each substep, and measured the last substep's
+  // loads.
+  if (!soft) {
+    const auto joint_rows = std::span<const Row>(r.rows).first(r.joint_rows);
+    state.joint_warm.store(joint_rows, r.lambda);
+    state.joint_loads.measure(joint_rows, r.lambda, h, scene.joints, scene.bodies);
+  }
   state.contact.store(scene.bodies, r.lambda, scene.threads,
                       soft ? state.soft.total() : std::span<const double>{});
 }
@@ -332,7 +338,7 @@ SolverReport pass(const Scene& scene, State& state, double h) {
   prepareRows(scene, state, h, h, true, true);
   const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, h);
   const SolverReport report = solve(scene, state, island_awake, h);
-  storeImpulses(scene, state, false);
+  storeImpulses(scene, state, h, false);
   integratePositions(scene, state, h);
   stabilize(scene, state);
   trackJoints(scene);
@@ -351,7 +357,7 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, 0.0);
   if (scene.settings.solver.post_stabilization > 0) state.stabilization.beginStep(scene.bodies);
   const SolverReport report = substeps(scene, state, island_awake, dt);
-  storeImpulses(scene, state, true);
+  storeImpulses(scene, state, dt, true);
   stabilize(scene, state);
   trackJoints(scene);
   sleep(scene, state, dt);

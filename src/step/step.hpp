@@ -38,6 +38,7 @@
 #include "step/geometric_stiffness.hpp"
 #include "step/island_solver.hpp"
 #include "step/islands.hpp"
+#include "step/joint_loads.hpp"
 #include "step/joint_warm_start.hpp"
 #include "step/sleep.hpp"
 #include "step/stabilization.hpp"
@@ -69,6 +70,7 @@ struct Rows {
 struct State {
   Rows rows;
   JointWarmStart joint_warm;
+  JointLoads joint_loads;  ///< what each joint applied over the last (sub)step
   ContactStage contact;
   Islands islands;
   SleepTracker sleep;

@@ -45,6 +45,8 @@ class SubstepJoints {
   /// Keeps the impulses for the next substep's (or step's) load.
   void store(JointWarmStart& warm) const { warm.store(rows_, lambda_); }
   std::span<const Row> rows() const { return rows_; }
+  /// The rows' impulses of the last solve (the substep's whole impulses).
+  std::span<const double> impulses() const { return lambda_; }
 
  private:
   void apply(std::span<solver::SoftSolver::Body> bodies, std::span<const double> impulses) const;

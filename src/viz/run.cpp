@@ -278,12 +278,19 @@ std::vector<Record> parseCsv(const std::string& text, const std::string& file) {
 class CsvFile {
  public:
   CsvFile(const fs::path& path, const std::vector<std::string>& header)
+      : CsvFile(path, std::vector<std::vector<std::string>>{header}) {}
+  // The first of `accepted` headers is the current one; the others, older files'.
+  CsvFile(const fs::path& path, const std::vector<std::vector<std::string>>& accepted)
       : file_(path.string()), records_(parseCsv(readText(path), file_)) {
-    if (records_.empty() || records_[0].fields != header) {
+    const auto match = std::find_if(accepted.begin(), accepted.end(), [&](const auto& h) {
+      return !records_.empty() && records_[0].fields == h;
+    });
+    if (match == accepted.end()) {
       std::string expected;
-      for (const std::string& h : header) expected += (expected.empty() ? "" : ",") + h;
+      for (const std::string& h : accepted.front()) expected += (expected.empty() ? "" : ",") + h;
       throw RunError(file_, "line 1", fmt::format("expected the header '{}'", expected));
     }
+    const std::vector<std::string>& header = *match;
     for (std::size_t i = 1; i < records_.size(); ++i) {
       if (records_[i].fields.size() != header.size()) {
         throw RunError(
@@ -379,7 +386,10 @@ Run readRun(const fs::path& dir) {
   }
 
   // joints.csv: nj rows per frame.
-  const CsvFile joints(dir / "joints.csv", {"time", "joint", "coordinate", "error"});
+  // With the joints' reactions (fx ... tz), or without them as runs before they were written.
+  const CsvFile joints(dir / "joints.csv", {{"time", "joint", "coordinate", "error", "fx", "fy",
+                                             "fz", "tx", "ty", "tz"},
+                                            {"time", "joint", "coordinate", "error"}});
   if (joints.rows() != frames * nj)
     throw RunError(joints.file(), "rows",
                    fmt::format("expected {} rows ({} frames of {} joints), got {}", frames * nj,

@@ -175,6 +175,11 @@ std::optional<double> World::jointCoordinate(JointId id) const {
   return j.coordinate(bodyState(j.body1()), bodyState(j.body2()));
 }
 
+JointReaction World::jointReaction(JointId id) const {
+  joint(id);  // checks the id
+  return impl_->step.joint_loads.of(static_cast<std::size_t>(id.index));
+}
+
 double World::jointError(JointId id) const {
   const Joint& j = joint(id);
   return j.error(bodyState(j.body1()), bodyState(j.body2()));
