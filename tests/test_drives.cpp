@@ -263,6 +263,67 @@ TEST(Servo, SaturatedServoAcceleratesAtItsMaximumTorque) {
   }
 }
 
+TEST(Signal, InterpolatesLinearlyAndHoldsItsEnds) {
+  const Signal s({0.0, 1.0, 3.0}, {0.0, 2.0, 2.0});
+  EXPECT_EQ(s.at(-1.0), 0.0);
+  EXPECT_EQ(s.at(0.5), 1.0);
+  EXPECT_EQ(s.at(1.0), 2.0);
+  EXPECT_EQ(s.at(2.0), 2.0);
+  EXPECT_EQ(s.at(7.0), 2.0);
+  EXPECT_EQ(s.rate(-1.0), 0.0);
+  EXPECT_EQ(s.rate(0.5), 2.0);
+  EXPECT_EQ(s.rate(2.0), 0.0);
+  EXPECT_EQ(s.rate(7.0), 0.0);
+  EXPECT_EQ(Signal(4.5).at(100.0), 4.5);
+  EXPECT_EQ(Signal(4.5).rate(100.0), 0.0);
+}
+
+TEST(Servo, FollowsARampWithoutLag) {
+  // The target moves at 0.5 rad/s from t = 0 to 2 s (a table), the servo critically damped with
+  // k = 1e4 N m/rad. Its damping aims at the table's rate, so the error obeys
+  // I e'' + c e' + k e = 0 from e'(0) = -0.5 rad/s: e = -0.5 t exp(-omega t), gone within a
+  // second (without the table's rate the rod would trail by c v / k = 5.8e-3 rad).
+  for (const SolverType type : {SolverType::Auto, SolverType::Soft}) {
+    Rod r = makeRod(type, 1e-3, false);
+    const double k = 1e4, c = 2.0 * std::sqrt(k * r.pivot_inertia);
+    r.world.joint(r.hinge).setMotor(JointMotor{
+        .target_position = Signal({0.0, 2.0}, {0.0, 1.0}), .stiffness = k, .damping = c});
+    double ramp = 0.0, corner = 0.0;  // worst errors in [1, 2) s and after the corner at 2 s
+    for (int i = 0; i < 3000; ++i) {
+      r.world.step();
+      const double t = r.world.time(), target = std::min(0.5 * t, 1.0);
+      const double e = std::abs(*r.world.jointCoordinate(r.hinge) - target);
+      if (t >= 1.0) (t < 2.0 ? ramp : corner) = std::max(t < 2.0 ? ramp : corner, e);
+    }
+    std::printf("%s: from 1 to 2 s at most %.2e rad from the moving target, after its stop %.2e\n",
+                name(type), ramp, corner);
+    EXPECT_LT(ramp, 1e-8);
+    // The stop at 2 s starts the transient again: 0.5 t exp(-omega t) peaks at 0.5 / (e omega),
+    // 1.05e-3 rad.
+    EXPECT_LT(corner, 1.1e-3);
+    EXPECT_NEAR(*r.world.jointCoordinate(r.hinge), 1.0, 1e-6);  // held at the table's end
+  }
+}
+
+TEST(Motor, VelocityTableIsFollowedExactly) {
+  // Target rate 2 t (a table from (0, 0) to (1, 2)): the rigid motor makes the rate 2 t_(n+1) at
+  // the end of every step, so theta_n = sum of h 2 k h = h^2 n (n + 1), 1.001 rad at 1 s.
+  for (const SolverType type : {SolverType::Auto, SolverType::Pgs}) {
+    const double h = 1e-3;
+    Rod r = makeRod(type, h, false);
+    r.world.joint(r.hinge).setMotor(
+        JointMotor{.target_velocity = Signal({0.0, 1.0}, {0.0, 2.0}), .max_force = 1e3});
+    double worst = 0.0;
+    for (int n = 1; n <= 1000; ++n) {
+      r.world.step();
+      worst = std::max(worst, std::abs(*r.world.jointCoordinate(r.hinge) - h * h * n * (n + 1.0)));
+    }
+    std::printf("%s: angle %.9f rad at 1 s, worst against h^2 n (n + 1) %.2e\n", name(type),
+                *r.world.jointCoordinate(r.hinge), worst);
+    EXPECT_LT(worst, 1e-9);
+  }
+}
+
 TEST(ImplicitShare, NoneWhileTheStepResolvesTheSpringAndHalfWhenItCannot) {
   using joints::implicitShare;
   EXPECT_EQ(implicitShare(50.0, 0.5, 0.01), joints::kMinImplicitShare);  // (h omega)^2 = 2.5e-3
@@ -290,6 +351,15 @@ TEST(DriveDefinitions, RefusedWithTheFieldNamed) {
             "motor.stiffness: needs a target_position to pull towards");
   EXPECT_EQ(message([&] { j.setMotor(JointMotor{.damping = -1.0}); }),
             "motor.damping: must be finite and >= 0");
+  EXPECT_EQ(message([&] {
+              j.setMotor(JointMotor{.target_position = Signal({0.0, 1.0, 1.0}, {0, 1, 2}),
+                                    .stiffness = 1.0});
+            }),
+            "motor.target_position: times[2]: must be after times[1] (1 <= 1)");
+  EXPECT_EQ(message([&] {
+              j.setMotor(JointMotor{.target_velocity = Signal({0.0, 1.0}, {0.0}), .max_force = 1});
+            }),
+            "motor.target_velocity: 2 times but 1 values");
   EXPECT_EQ(message([&] { j.setSpring(JointSpring{.stiffness = kInfinity}); }),
             "spring.stiffness: must be finite and >= 0");
   EXPECT_EQ(message([&] { j.setSpring(JointSpring{.stiffness = 1.0, .rest = std::nan("")}); }),

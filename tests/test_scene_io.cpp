@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
@@ -764,6 +765,25 @@ TEST(SceneError, Joints) {
        },
        "joints[0].motor.gain", "unknown field"},
       {[](json& s) {
+         s["joints"][0]["motor"] = {{"target_position", {{"times", {0, 1}}, {"values", {0}}}},
+                                    {"stiffness", 1}};
+       },
+       "joints[0].motor.target_position.values", "1 values for 2 times"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {
+             {"target_position", {{"times", {0, 2, 1}}, {"values", {0, 1, 2}}}}, {"stiffness", 1}};
+       },
+       "joints[0].motor.target_position.times[2]", "must be after the time before it (1 <= 2)"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"target_position", "up"}, {"stiffness", 1}};
+       },
+       "joints[0].motor.target_position", "expected a number or a table"},
+      {[](json& s) {
+         s["joints"][0]["motor"] = {{"target_velocity", {{"file", "nowhere.csv"}}},
+                                    {"max_force", 1}};
+       },
+       "joints[0].motor.target_velocity.file", "cannot read"},
+      {[](json& s) {
          s["joints"][0]["spring"] = {{"rest", 1}};
        },
        "joints[0].spring", "needs a stiffness, a damping or both"},
@@ -780,6 +800,37 @@ TEST(SceneError, Joints) {
       {[](json& s) { s["joints"][0]["erp"] = 2; }, "joints[0].erp", "must be between 0 and 1"},
       {[](json& s) { s["joints"][0]["cfm"] = -1; }, "joints[0].cfm", "must be >= 0"},
   });
+}
+
+TEST(SceneRead, TargetsInTime) {
+  json scene = baseScene();
+  scene["joints"][0]["motor"] = {
+      {"target_position", {{"times", {0, 1, 2.5}}, {"values", {0, 0.5, -1}}}}, {"stiffness", 100}};
+  const linx::JointMotor m = *parse(scene).joints.at(0).def.motor;
+  EXPECT_EQ(m.target_position->times, (std::vector<double>{0, 1, 2.5}));
+  EXPECT_EQ(m.target_position->values, (std::vector<double>{0, 0.5, -1}));
+  EXPECT_EQ(m.target_position->at(1.75), -0.25);
+  // From a CSV file beside the scene, with a header line.
+  const auto dir = std::filesystem::temp_directory_path() / "linx_targets_in_time";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "speed.csv") << "time,speed\r\n0,0\r\n2,4\r\n3,4\r\n";
+  scene["joints"][0]["motor"] = {{"target_velocity", {{"file", "speed.csv"}}}, {"max_force", 5}};
+  const linx::Scene read = linx::parseScene(scene.dump(), (dir / "scene.json").string());
+  const linx::Signal& v = read.joints.at(0).def.motor->target_velocity;
+  EXPECT_EQ(v.times, (std::vector<double>{0, 2, 3}));
+  EXPECT_EQ(v.at(1.0), 2.0);
+  std::ofstream(dir / "bad.csv") << "0,0\n1,x\n";
+  scene["joints"][0]["motor"] = {{"target_velocity", {{"file", "bad.csv"}}}, {"max_force", 5}};
+  try {
+    linx::parseScene(scene.dump(), (dir / "scene.json").string());
+    ADD_FAILURE() << "bad.csv accepted";
+  } catch (const linx::SceneError& e) {
+    EXPECT_EQ(e.field(), "joints[0].motor.target_velocity.file");
+    EXPECT_NE(e.problem().find("bad.csv line 2: expected two numbers, time and value, got '1,x'"),
+              std::string::npos)
+        << e.problem();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(SceneRead, DrivesAndSprings) {

@@ -13,6 +13,8 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace linx {
 
@@ -22,6 +24,21 @@ struct JointLimits {
   double upper = kInfinity;
 };
 
+/// A value in time: a constant, or a table of points (times strictly increasing) interpolated
+/// linearly between them and held at the first and last values outside them.
+struct Signal {
+  Signal(double constant = 0.0) : values{constant} {}  // NOLINT: a number is a constant signal
+  Signal(std::vector<double> times_, std::vector<double> values_)
+      : times(std::move(times_)), values(std::move(values_)) {}
+  std::vector<double> times;   ///< (s), empty for a constant
+  std::vector<double> values;  ///< one per time; the constant alone when `times` is empty
+
+  double at(double t) const;
+  /// d/dt of at(t): the slope of the segment t is in (right-hand at a point), 0 outside.
+  double rate(double t) const;
+  bool operator==(const Signal&) const = default;
+};
+
 /// A drive on a joint coordinate x (m for sliders, rad for hinges), acting with a force (N) or
 /// torque (N m) of at most max_force (docs/joints.md):
 /// - a velocity motor (the default): holds the rate x' at target_velocity;
@@ -29,10 +46,12 @@ struct JointLimits {
 ///   + damping (target_velocity - x'), a PD controller;
 /// - a damped velocity motor (damping > 0, no target_position): F = damping (target_velocity - x').
 /// Servos are integrated implicitly: stable at any gain.
+/// Targets may change in time (Signal); a servo's damping then aims at target_velocity plus the
+/// position table's own rate, so it follows a moving target without lag.
 struct JointMotor {
-  double target_velocity = 0.0;                          ///< (m/s or rad/s)
+  Signal target_velocity = 0.0;                          ///< (m/s or rad/s)
   double max_force = kInfinity;                          ///< (N or N m), >= 0; infinite: no bound
-  std::optional<double> target_position = std::nullopt;  ///< (m or rad): makes it a servo
+  std::optional<Signal> target_position = std::nullopt;  ///< (m or rad): makes it a servo
   double stiffness = 0.0;  ///< servo gain (N/m or N m/rad), >= 0; needs target_position
   double damping = 0.0;    ///< (N s/m or N m s/rad), >= 0
 
@@ -96,6 +115,9 @@ struct JointContext {
   double cfm = 0.0;  ///< effective constraint force mixing for this joint
   /// The bodies' inertia, for drives and springs (their implicit share depends on it).
   BodyInertia m1 = {}, m2 = {};
+  /// (s) the time at the step's start: a position target is taken there (with the coordinate), a
+  /// velocity target at its end (time + h), where the rate is.
+  double time = 0.0;
 };
 
 class Joint {

@@ -827,8 +827,8 @@ class Reader {
   JointMotor motor(const Node& n) const {
     allowOnly(n, {"target_velocity", "target_position", "stiffness", "damping", "max_force"});
     JointMotor m;
-    if (auto v = get(n, "target_velocity")) m.target_velocity = number(*v);
-    if (auto v = get(n, "target_position")) m.target_position = number(*v);
+    if (auto v = get(n, "target_velocity")) m.target_velocity = signal(*v);
+    if (auto v = get(n, "target_position")) m.target_position = signal(*v);
     if (auto v = get(n, "stiffness")) m.stiffness = nonNegative(*v);
     if (auto v = get(n, "damping")) m.damping = nonNegative(*v);
     if (m.target_position && !(m.stiffness > 0.0)) {
@@ -846,6 +846,84 @@ class Reader {
       m.max_force = nonNegative(require(n, "max_force"));
     }
     return m;
+  }
+
+  // A number, or a table in time: {"times": [...], "values": [...]} or {"file": "CSV"} (two
+  // columns, time and value, after an optional header line; relative to the scene file).
+  Signal signal(const Node& n) const {
+    if (n.value.is_number()) return Signal(number(n));
+    if (!n.value.is_object())
+      fail(n.path, fmt::format("expected a number or a table {{\"times\": [...], \"values\": "
+                               "[...]}}, got {}",
+                               describe(n.value)));
+    allowOnly(n, {"times", "values", "file"});
+    Signal table({}, {});
+    if (const auto file = get(n, "file")) {
+      for (std::string_view key : {"times", "values"})
+        if (n.value.contains(key))
+          fail(childPath(n.path, key), "give either a file or times and values");
+      const std::filesystem::path path = std::filesystem::path(file_).parent_path() / string(*file);
+      table = tableFile(path, file->path);
+    } else {
+      const auto column = [&](std::string_view key) {
+        const Node c = require(n, key);
+        expectArray(c);
+        std::vector<double> out;
+        for (std::size_t i = 0; i < c.value.size(); ++i)
+          out.push_back(number({c.value[i], itemPath(c.path, i)}));
+        return out;
+      };
+      table.times = column("times");
+      table.values = column("values");
+      if (table.times.empty()) fail(childPath(n.path, "times"), "must not be empty");
+      if (table.values.size() != table.times.size())
+        fail(childPath(n.path, "values"),
+             fmt::format("{} values for {} times", table.values.size(), table.times.size()));
+      for (std::size_t i = 1; i < table.times.size(); ++i)
+        if (!(table.times[i] > table.times[i - 1]))
+          fail(itemPath(childPath(n.path, "times"), i),
+               fmt::format("must be after the time before it ({} <= {})", table.times[i],
+                           table.times[i - 1]));
+    }
+    return table;
+  }
+
+  // Two columns of numbers, time and value, one row per line; the first line may be a header.
+  Signal tableFile(const std::filesystem::path& path, const std::string& field) const {
+    std::ifstream in(path);
+    if (!in) fail(field, fmt::format("cannot read '{}'", path.string()));
+    Signal table({}, {});
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.empty()) continue;
+      const auto comma = line.find(',');
+      double t = 0.0, v = 0.0;
+      const auto parse = [](const std::string& text, double& x) {
+        std::size_t used = 0;
+        try {
+          x = std::stod(text, &used);
+        } catch (const std::exception&) {
+          return false;
+        }
+        return text.find_first_not_of(" \t", used) == std::string::npos && std::isfinite(x);
+      };
+      const bool ok = comma != std::string::npos && parse(line.substr(0, comma), t) &&
+                      parse(line.substr(comma + 1), v);
+      if (!ok) {
+        if (number == 1) continue;  // a header
+        fail(field, fmt::format("{} line {}: expected two numbers, time and value, got '{}'",
+                                path.string(), number, line));
+      }
+      if (!table.times.empty() && !(t > table.times.back()))
+        fail(field, fmt::format("{} line {}: time {} is not after the one before it ({})",
+                                path.string(), number, t, table.times.back()));
+      table.times.push_back(t);
+      table.values.push_back(v);
+    }
+    if (table.times.empty())
+      fail(field, fmt::format("{}: no rows of time and value", path.string()));
+    return table;
   }
 
   JointSpring spring(const Node& n) const {

@@ -55,16 +55,33 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
   if (def.spring) validateSpring(*def.spring);
 }
 
+void validateSignal(const Signal& s, std::string_view field) {
+  const auto bad = [&](const std::string& problem) {
+    return std::invalid_argument(fmt::format("{}: {}", field, problem));
+  };
+  if (s.times.empty()) {
+    if (s.values.size() != 1 || !std::isfinite(s.values[0])) throw bad("must be finite");
+    return;
+  }
+  if (s.values.size() != s.times.size())
+    throw bad(fmt::format("{} times but {} values", s.times.size(), s.values.size()));
+  for (std::size_t i = 0; i < s.times.size(); ++i) {
+    if (!std::isfinite(s.times[i])) throw bad(fmt::format("times[{}]: must be finite", i));
+    if (!std::isfinite(s.values[i])) throw bad(fmt::format("values[{}]: must be finite", i));
+    if (i > 0 && !(s.times[i] > s.times[i - 1]))
+      throw bad(fmt::format("times[{}]: must be after times[{}] ({} <= {})", i, i - 1, s.times[i],
+                            s.times[i - 1]));
+  }
+}
+
 void validateMotor(const JointMotor& m) {
   const auto gain = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  if (!std::isfinite(m.target_velocity))
-    throw std::invalid_argument("motor.target_velocity: must be finite");
+  validateSignal(m.target_velocity, "motor.target_velocity");
   if (!(m.max_force >= 0.0)) throw std::invalid_argument("motor.max_force: must be >= 0");
   if (!gain(m.stiffness)) throw std::invalid_argument("motor.stiffness: must be finite and >= 0");
   if (!gain(m.damping)) throw std::invalid_argument("motor.damping: must be finite and >= 0");
   if (m.target_position) {
-    if (!std::isfinite(*m.target_position))
-      throw std::invalid_argument("motor.target_position: must be finite");
+    validateSignal(*m.target_position, "motor.target_position");
     if (!(m.stiffness > 0.0))
       throw std::invalid_argument("motor.stiffness: a servo (target_position) needs stiffness > 0");
   } else if (m.stiffness > 0.0) {

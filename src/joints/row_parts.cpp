@@ -137,7 +137,7 @@ bool limitRow(const JointContext& ctx, double bound, bool lower, double margin, 
 void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row) {
   row.kind = RowKind::Motor;
   row.phi = 0.0;
-  row.speed = motor.target_velocity;
+  row.speed = motor.target_velocity.at(ctx.time + ctx.h);
   row.lo = -ctx.h * motor.max_force;
   row.hi = ctx.h * motor.max_force;
 }
@@ -162,10 +162,12 @@ void driveRow(const JointContext& ctx, double stiffness, double damping, double 
   const double beta = implicitShare(stiffness, inverseMassAlong(row, ctx.m1, ctx.m2), h);
   const double d = damping + beta * h * stiffness;  // the force's part in the new rate
   row.kind = RowKind::Drive;
-  // J u+ + lambda / (h d) = (c v_t - k phi) / d, i.e. lambda = h (-k phi + c v_t - d J u+).
+  // J u+ + lambda / (h d) = v_t - k phi / d, i.e. lambda = h (-k phi + d (v_t - J u+)): the
+  // implicit share of the spring acts on the error's change, (J u+ - v_t) h, so a target moving at
+  // v_t is followed without lag.
   row.cfm = 1.0 / (h * d);
   row.erp = h * stiffness / d;
-  row.speed = damping * target_rate / d;
+  row.speed = target_rate;
   row.lo = -h * max_force;
   row.hi = h * max_force;
 }

@@ -86,9 +86,9 @@ inline constexpr double kMinImplicitShare = 1e-4;
 /// (h omega)^2 (1 - 2 beta) = 2 - (h omega)^2 < 4 (stable; the row's own mass is the lightest the
 /// body can move with, so the real omega is lower), tending to implicit Euler as k grows.
 double implicitShare(double stiffness, double inverse_mass, double h);
-/// Turns a coordinate row (J, phi = coordinate minus its target) into a drive row: the impulse is
-/// h F with F = -stiffness phi + damping (target_rate - J u+) - beta h stiffness J u+, bounded by
-/// |F| <= max_force (docs/joints.md).
+/// Turns a coordinate row (J, phi = coordinate minus its target at the step's start) into a drive
+/// row: the impulse is h F with F = -stiffness phi + (damping + beta h stiffness) (target_rate -
+/// J u+), bounded by |F| <= max_force (docs/joints.md).
 void driveRow(const JointContext& ctx, double stiffness, double damping, double target_rate,
               double max_force, Row& row);
 
@@ -118,9 +118,12 @@ int coordinateRows(const JointContext& ctx, const JointDef& def, double margin,
     Row& row = rows[static_cast<std::size_t>(n)];
     coordinateRow(row);
     if (motor.isServo()) {
-      row.phi = motor.target_position ? row.phi - *motor.target_position : 0.0;
-      driveRow(ctx, motor.target_position ? motor.stiffness : 0.0, motor.damping,
-               motor.target_velocity, motor.max_force, row);
+      const Signal* position = motor.target_position ? &*motor.target_position : nullptr;
+      // The position target at the step's start (where phi is), the rate over the step.
+      row.phi = position ? row.phi - position->at(ctx.time) : 0.0;
+      const double rate =
+          motor.target_velocity.at(ctx.time + ctx.h) + (position ? position->rate(ctx.time) : 0.0);
+      driveRow(ctx, position ? motor.stiffness : 0.0, motor.damping, rate, motor.max_force, row);
     } else {
       motorRow(ctx, motor, row);
     }

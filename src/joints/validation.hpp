@@ -3,13 +3,18 @@
 
 #include <linx/joint.hpp>
 
+#include <string_view>
+
 namespace linx::joints {
 
 /// Throws std::invalid_argument naming the field: a non-finite anchor, a zero axis, erp outside
 /// [0, 1], a negative cfm, limits, a motor or a spring on a type without a coordinate, inverted
 /// limits, and what validateMotor and validateSpring refuse.
 void validate(const JointTypeInfo& type, const JointDef& def);
-/// A negative max_force, a non-finite target, negative or non-finite gains, a servo
+/// A constant that is not finite, a table whose times do not increase or whose lengths differ;
+/// `field` names it in the message.
+void validateSignal(const Signal& signal, std::string_view field);
+/// A negative max_force, a bad target (validateSignal), negative or non-finite gains, a servo
 /// (target_position) without stiffness, a stiffness without a target_position.
 void validateMotor(const JointMotor& motor);
 /// Negative or non-finite stiffness or damping, a non-finite rest position.

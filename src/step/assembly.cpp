@@ -22,10 +22,11 @@ BodyInertia inertiaOf(std::span<const Body> bodies, BodyId id) {
 }  // namespace
 
 JointContext contextOf(std::span<const Body> bodies, const Joint& j, const SolverSettings& settings,
-                       double h) {
+                       double h, double time) {
   const JointDef& def = j.def();
   JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
                    def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
+  ctx.time = time;
   // Only drives (servos, springs) read the inertia: the others skip rotating it to the world.
   if (def.spring || (def.motor && def.motor->isServo())) {
     ctx.m1 = inertiaOf(bodies, j.body1());
@@ -46,7 +47,7 @@ bool finite(const Row& r) {
 }  // namespace
 
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
-                  const SolverSettings& settings, double h, std::vector<Row>& rows) {
+                  const SolverSettings& settings, double h, double time, std::vector<Row>& rows) {
   // 1. count
   std::size_t capacity = 0;
   for (const auto& j : joints) capacity += static_cast<std::size_t>(j->maxRows());
@@ -56,7 +57,7 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
   std::size_t used = 0;
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
-    const JointContext ctx = contextOf(bodies, j, settings, h);
+    const JointContext ctx = contextOf(bodies, j, settings, h, time);
     const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
     for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
     const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());

@@ -15,17 +15,17 @@ namespace linx::step {
 
 /// A joint's state of a body: identity and zero velocity for the world frame.
 BodyState stateOf(std::span<const Body> bodies, BodyId id);
-/// What joint `j` fills its rows from for a step of length h: its bodies' states and inertia, its
-/// error reduction and cfm (its own, else the world's).
+/// What joint `j` fills its rows from for a step of length h starting at `time`: its bodies' states
+/// and inertia, its error reduction and cfm (its own, else the world's), the time of its targets.
 JointContext contextOf(std::span<const Body> bodies, const Joint& j, const SolverSettings& settings,
-                       double h);
+                       double h, double time);
 
-/// Assembles the rows of all joints for a step of length h. Solver body indices are body indices,
-/// -1 for the world and for static bodies; joints between two such are skipped (nothing moves).
-/// Row keys are unique and stable across steps; friction rows' `normal` becomes a list index.
-/// Throws std::logic_error when a joint writes more rows than its maxRows().
-/// Throws std::domain_error naming the joint if it produces a non-finite row.
+/// Assembles the rows of all joints for a step of length h starting at `time` (motors' targets).
+/// Solver body indices are body indices, -1 for the world and for static bodies; joints between two
+/// such are skipped (nothing moves). Row keys are unique and stable across steps; friction rows'
+/// `normal` becomes a list index. Throws std::logic_error when a joint writes more rows than its
+/// maxRows(). Throws std::domain_error naming the joint if it produces a non-finite row.
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
-                  const SolverSettings& settings, double h, std::vector<Row>& rows);
+                  const SolverSettings& settings, double h, double time, std::vector<Row>& rows);
 
 }  // namespace linx::step

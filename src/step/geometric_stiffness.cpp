@@ -23,7 +23,8 @@ void GeometricStiffness::measure(std::span<const std::unique_ptr<Joint>> joints,
     if (std::all_of(impulse.begin(), impulse.end(), [](double l) { return l == 0.0; })) continue;
 
     const Joint& j = *joints[ji];
-    const JointContext ctx = contextOf(bodies, j, settings, h);
+    // The stiffness is of J, not of the targets: any time will do.
+    const JointContext ctx = contextOf(bodies, j, settings, h, 0.0);
     Mat12 k = j.stiffness(ctx, own, impulse);
     // Only the bodies that move count: a static end's force is no coordinate of the system.
     const int ends[2] = {own.front().body_a, own.front().body_b};

@@ -76,7 +76,8 @@ void PostStabilization::addCurvature(std::span<const Body> bodies, std::span<Row
 double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
                                  std::span<const Body> bodies, const SolverSettings& settings,
                                  std::span<const std::uint8_t> frozen) {
-  assembleRows(joints, bodies, settings, 1.0, rows_);
+  // Targets do not enter the projection (a motor's row holds its coordinate): any time will do.
+  assembleRows(joints, bodies, settings, 1.0, 0.0, rows_);
   const auto fixed = [&](int body) {
     return body < 0 || (!frozen.empty() && frozen[static_cast<std::size_t>(body)]);
   };

@@ -60,7 +60,7 @@ void prepareRows(const Scene& scene, State& state, double h_joints, double h, bo
                  bool curvature) {
   const SolverSettings& solver = scene.settings.solver;
   Rows& r = state.rows;
-  assembleRows(scene.joints, scene.bodies, solver, h_joints, r.rows);
+  assembleRows(scene.joints, scene.bodies, solver, h_joints, scene.time, r.rows);
   r.joint_rows = r.rows.size();
   r.lambda.assign(r.joint_rows, 0.0);
   if (solver.warm_start) state.joint_warm.load(r.rows, r.lambda);
@@ -217,7 +217,8 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
       bodies[i].v = scene.bodies[i].linearVelocity();
       bodies[i].w = scene.bodies[i].angularVelocity();
     });
-    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm,
+    const double start = scene.time + s * h;  // of this substep: the targets' time
+    joints.prepare(scene.joints, scene.bodies, settings, h, start, state.moving, state.joint_warm,
                    state.stabilization, true);
     solver.warmStart();
     joints.warmStart(bodies);
@@ -230,7 +231,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     solver.move(h);
     solver.sweep(false);
     joints.store(state.joint_warm);
-    joints.prepare(scene.joints, scene.bodies, settings, h, state.moving, state.joint_warm,
+    joints.prepare(scene.joints, scene.bodies, settings, h, start, state.moving, state.joint_warm,
                    state.stabilization, false);
     if (!joints.empty()) joint_report = joints.solve(bodies, false, settings, h, scene.threads);
     solver.accumulate();

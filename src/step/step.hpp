@@ -56,7 +56,8 @@ struct Scene {
   std::span<Body> bodies;
   std::span<const std::unique_ptr<Joint>> joints;
   const WorldSettings& settings;
-  int threads = 1;  ///< resolved worker count (>= 1)
+  int threads = 1;    ///< resolved worker count (>= 1)
+  double time = 0.0;  ///< (s) at the start of the pass
 };
 
 /// The rows of a pass: joint rows first, then contact rows, with one impulse each.

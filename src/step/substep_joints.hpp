@@ -33,8 +33,9 @@ class SubstepJoints {
   /// curvature along the substep (PostStabilization::addCurvature); `start`: the substep's first
   /// prepare (before the positions move), whose rows the next substep measures its curvature from.
   void prepare(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
-               const SolverSettings& settings, double h, std::span<const std::uint8_t> moving,
-               JointWarmStart& warm, PostStabilization& post, bool start);
+               const SolverSettings& settings, double h, double time,
+               std::span<const std::uint8_t> moving, JointWarmStart& warm, PostStabilization& post,
+               bool start);
   bool empty() const { return rows_.empty(); }
   /// Applies the impulses to the velocities.
   void warmStart(std::span<solver::SoftSolver::Body> bodies) const;

@@ -131,10 +131,13 @@ void World::step() {
   // The soft step substeps within one pass; the others pass `substeps` times.
   const int substeps =
       settings_.solver.type == SolverType::Soft ? 1 : std::max(1, settings_.solver.substeps);
-  const step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
+  step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
   impl_->check.begin(bodies_, settings_.gravity);
   try {
-    for (int s = 0; s < substeps; ++s) report_ = step::pass(scene, impl_->step, h / substeps);
+    for (int s = 0; s < substeps; ++s) {
+      scene.time = time_ + s * (h / substeps);
+      report_ = step::pass(scene, impl_->step, h / substeps);
+    }
   } catch (const std::domain_error& e) {  // a joint's rows went non-finite (assembly, projection)
     throw NonFiniteState(fmt::format("{} in step {} (t = {} s)", e.what(), steps_ + 1, time_), -1,
                          steps_ + 1, time_);
