@@ -38,8 +38,9 @@ Rod makeRod(SolverType type, bool hanging, bool gravity = true) {
   return r;
 }
 
+// The solver's name, for messages (solverTypeName's views are of string literals).
 const char* name(SolverType t) {
-  return t == SolverType::Auto ? "auto" : t == SolverType::Pgs ? "pgs" : "soft";
+  return solverTypeName(t).data();
 }
 
 TEST(JointReaction, HeldRodCarriesItsWeightAndItsMoment) {

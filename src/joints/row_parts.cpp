@@ -86,17 +86,9 @@ void angularRow(const Vec3& a, double theta, Row& row) {
   row.phi = theta;
 }
 
-namespace {
-Mat3 cross(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-}  // namespace
-
 void addPointStiffness(const Arms& arms, const Vec3& impulse, Mat12& k) {
-  k.block<3, 3>(3, 3) += cross(impulse) * cross(arms.r1);
-  k.block<3, 3>(9, 9) -= cross(impulse) * cross(arms.r2);
+  k.block<3, 3>(3, 3) += math::skew(impulse) * math::skew(arms.r1);
+  k.block<3, 3>(9, 9) -= math::skew(impulse) * math::skew(arms.r2);
 }
 
 Vec3 pointImpulse(std::span<const Row> rows, std::span<const double> lambda) {
@@ -107,8 +99,8 @@ Vec3 pointImpulse(std::span<const Row> rows, std::span<const double> lambda) {
 }
 
 void addBody2AxisStiffness(const Vec3& torque, Mat12& k) {
-  k.block<3, 3>(3, 9) -= cross(torque);
-  k.block<3, 3>(9, 9) += cross(torque);
+  k.block<3, 3>(3, 9) -= math::skew(torque);
+  k.block<3, 3>(9, 9) += math::skew(torque);
 }
 
 double rowRate(const Row& row, const BodyState& b1, const BodyState& b2) {

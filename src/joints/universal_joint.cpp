@@ -6,18 +6,12 @@
 //           (d/dt a1 . a2 = (w1 x a1) . a2 + a1 . (w2 x a2) = n . (w1 - w2))
 #include "joints/universal_joint.hpp"
 
+#include "math/rotation.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
 namespace linx::joints {
-
-namespace {
-Mat3 cross(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-}  // namespace
 
 UniversalJoint::UniversalJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {
@@ -51,7 +45,7 @@ Mat12 UniversalJoint::stiffness(const JointContext& ctx, std::span<const Row> ro
     if ((rows[m].key & 0xff) == 3) l += lambda[m];
   const Vec3 a1 = ctx.b1.pose.orientation * cross1_;
   const Vec3 a2 = ctx.b2.pose.orientation * cross2_;
-  const Mat3 d1 = l * cross(a2) * cross(a1), d2 = -l * cross(a1) * cross(a2);
+  const Mat3 d1 = l * math::skew(a2) * math::skew(a1), d2 = -l * math::skew(a1) * math::skew(a2);
   k.block<3, 3>(3, 3) += d1;
   k.block<3, 3>(3, 9) += d2;
   k.block<3, 3>(9, 3) -= d1;
