@@ -121,6 +121,10 @@ TEST(Body, MassPropertiesThatContradictOrAreMissingAreRefused) {
   d.inertia.reset();
   d.mass = 1.0;
   EXPECT_EQ(message(d), "inertia: missing (give it, or a solid shape to compute it from)");
+  d.mass = -2.0;  // checked before an inertia is made from it
+  d.shapes = {ShapeDef{.type = ShapeType::Box, .size = Vec3::Ones()}};
+  EXPECT_EQ(message(d), "mass: must be finite and > 0");
+  d.shapes.clear();
   d.mass.reset();
   d.shapes = {ShapeDef{.type = ShapeType::Sphere, .radius = 0.1}};
   EXPECT_EQ(message(d), "shapes[0].density: a positive density is needed to compute the mass");

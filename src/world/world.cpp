@@ -36,6 +36,9 @@ BodyId World::createBody(const BodyDef& given) {
   if (given.name.empty()) throw std::invalid_argument("name: must not be empty");
   if (findBody(given.name))
     throw std::invalid_argument(fmt::format("duplicate body name '{}'", given.name));
+  // A mass given is checked before anything is made from it (an inertia filled to it).
+  if (!given.is_static && given.mass && !(*given.mass > 0.0 && std::isfinite(*given.mass)))
+    throw std::invalid_argument("mass: must be finite and > 0");
   BodyDef def = given;
   completeMassProperties(def);
   if (!def.position.allFinite() || !def.orientation.coeffs().allFinite() ||
