@@ -28,7 +28,8 @@ struct SliderCrank {
                           .body1 = crank,
                           .anchor = Vec3::Zero(),
                           .axis = Vec3::UnitZ(),
-                          .motor = JointMotor{.target_velocity = speed, .max_force = 100.0}});
+                          .coordinates = {CoordinateDef{
+                              .motor = JointMotor{.target_velocity = speed, .max_force = 100.0}}}});
     world.createJoint("hinge", JointDef{.name = "crank_pin",
                                         .body1 = rod,
                                         .body2 = crank,

@@ -25,12 +25,16 @@ TEST(GeometricStiffness, ClosedFormsMatchTheRowsFiniteDifferences) {
     for (int trial = 0; trial < 20; ++trial) {
       const BodyState c1 = randomState(rng), c2 = randomState(rng);
       JointDef def{.name = "j", .anchor = randomVec(rng, 1.0), .axis = randomVec(rng, 1.0)};
-      if (std::string(type) == "hinge") {
-        // Limits on both sides of the coordinate and a motor: every row the hinge can write.
-        def.limits = JointLimits{-0.05, 0.05};
-        def.motor = JointMotor{1.0, 10.0};
-        def.spring = JointSpring{.stiffness = 30.0, .damping = 0.5, .rest = 0.2};
-      }
+      // Limits on both sides of each coordinate, a motor, a spring and friction: every row the
+      // joint can write.
+      const CoordinateDef everything{
+          .limits = JointLimits{-0.05, 0.05},
+          .motor = JointMotor{1.0, 10.0},
+          .spring = JointSpring{.stiffness = 30.0, .damping = 0.5, .rest = 0.2},
+          .friction = 2.0};
+      const JointTypeInfo& info = *findJointType(type);
+      for (int i = 0; i < info.freeCoordinates(); ++i)
+        def.coordinates[static_cast<std::size_t>(i)] = everything;
       if (std::string(type) == "universal") def.axis2 = def.axis.cross(randomVec(rng, 1.0));
       std::unique_ptr<Joint> j = makeJoint(type, def, c1, c2);
       // Off the pose of creation: the joint open, and its hinge past its limits.

@@ -174,12 +174,12 @@ TEST(Hinge, AngleIsZeroAtCreationAndFollowsTheRightHandRule) {
     const Vec3 axis = Vec3(0, 0, 1);
     const JointId j = w.createJoint(
         "hinge", JointDef{.name = "h", .body1 = id, .anchor = Vec3::Zero(), .axis = axis});
-    EXPECT_NEAR(*w.jointCoordinate(j), 0.0, 1e-15);
+    EXPECT_NEAR(w.jointCoordinates(j)[0], 0.0, 1e-15);
     // Spin the arm at +1 rad/s about +z for 0.3 s: the angle reads +0.3.
     w.body(id).setAngularVelocity(Vec3(0, 0, 1.0));
     w.body(id).setLinearVelocity(Vec3(0, 0, 1.0).cross(d.position));
     for (int i = 0; i < 300; ++i) w.step();
-    EXPECT_NEAR(*w.jointCoordinate(j), 0.3, 1e-5) << "tilt " << tilt;
+    EXPECT_NEAR(w.jointCoordinates(j)[0], 0.3, 1e-5) << "tilt " << tilt;
   }
 }
 
@@ -191,14 +191,14 @@ TEST(Hinge, AngularLimitStopsTheSwing) {
   double highest = -1.0;
   for (int i = 0; i < 2000; ++i) {
     p.world.step();
-    highest = std::max(highest, *p.world.jointCoordinate(p.hinge));
+    highest = std::max(highest, p.world.jointCoordinates(p.hinge)[0]);
   }
   std::printf("highest angle %.9f rad against the limit 0.5\n", highest);
   // The limit row is speculative: it lets the rod arrive at the bound and not past it, so the
   // overshoot is only the linearization of the rotation within one step (h w^2 ~ 1e-5 rad).
   EXPECT_LT(highest, 0.5 + 1e-4);
-  EXPECT_GT(highest, 0.5 - 1e-3);                             // it did reach the limit
-  EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), 0.5, 1e-3);  // and rests on it
+  EXPECT_GT(highest, 0.5 - 1e-3);                                // it did reach the limit
+  EXPECT_NEAR(p.world.jointCoordinates(p.hinge)[0], 0.5, 1e-3);  // and rests on it
 }
 
 TEST(Hinge, AngleCountsTurnsAndLimitsMayLieBeyondHalfATurn) {
@@ -208,12 +208,12 @@ TEST(Hinge, AngleCountsTurnsAndLimitsMayLieBeyondHalfATurn) {
   // Driven at 2 rad/s for 2 s: 4 rad, past pi, read continuously.
   p.world.joint(p.hinge).setMotor(JointMotor{.target_velocity = 2.0, .max_force = 1e4});
   for (int i = 0; i < 2000; ++i) p.world.step();
-  EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), 4.0, 1e-9);
+  EXPECT_NEAR(p.world.jointCoordinates(p.hinge)[0], 4.0, 1e-9);
   // Backwards through zero to -7 rad (more than a turn), then stopped by a limit at -6.5 rad.
   p.world.joint(p.hinge).setMotor(JointMotor{.target_velocity = -4.0, .max_force = 1e4});
   p.world.joint(p.hinge).setLimits(JointLimits{.lower = -6.5, .upper = 10.0});
   for (int i = 0; i < 3000; ++i) p.world.step();
-  EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), -6.5, 1e-9);
+  EXPECT_NEAR(p.world.jointCoordinates(p.hinge)[0], -6.5, 1e-9);
 }
 
 TEST(Hinge, NarrowLimitsWithAMotorUseEveryRowSlot) {
@@ -234,12 +234,13 @@ TEST(Hinge, NarrowLimitsWithAMotorUseEveryRowSlot) {
     int most_rows = 0;
     for (int i = 0; i < 500; ++i) {
       p.world.step();
-      const double angle = *p.world.jointCoordinate(p.hinge);
+      const double angle = p.world.jointCoordinates(p.hinge)[0];
       ASSERT_LT(std::abs(angle), 0.01 + 1e-6) << "step " << i;
       most_rows = std::max(most_rows, p.world.lastReport().rows);
     }
     EXPECT_EQ(most_rows, 8 + 5);
-    EXPECT_NEAR(*p.world.jointCoordinate(p.hinge), 0.01, 1e-6);  // the motor holds it on the bound
+    EXPECT_NEAR(p.world.jointCoordinates(p.hinge)[0], 0.01,
+                1e-6);  // the motor holds it on the bound
   }
 }
 
@@ -250,7 +251,8 @@ TEST(Hinge, SettersRejectWhatCreationRejects) {
   EXPECT_THROW(j.setMotor(JointMotor{.target_velocity = 0.0, .max_force = -5.0}),
                std::invalid_argument);
   EXPECT_THROW(j.setLimits(JointLimits{.lower = 1.0, .upper = -1.0}), std::invalid_argument);
-  EXPECT_FALSE(j.def().motor.has_value());  // a refused change leaves the joint as it was
+  EXPECT_FALSE(
+      j.def().coordinates[0].motor.has_value());  // a refused change leaves the joint as it was
   const BodyId b = p.world.createBody(test::boxBody("b", 1.0, Vec3(1, 1, 1), Vec3(0, 0, -3)));
   const JointId ball =
       p.world.createJoint("ball", JointDef{.name = "ball", .body1 = b, .anchor = Vec3::Zero()});

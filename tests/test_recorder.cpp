@@ -119,11 +119,13 @@ TEST_F(RecorderTest, WritesHeadersRowsAndFullPrecision) {
 
   const auto joints = lines(dir / "joints.csv");
   ASSERT_EQ(joints.size(), 1u + 2 * 2);
-  EXPECT_EQ(joints[0], "time,joint,coordinate,error,fx,fy,fz,tx,ty,tz");
-  EXPECT_EQ(joints[1], "0,pivot,0,0,0,0,0,0,0,0");
+  EXPECT_EQ(joints[0],
+            "time,joint,coordinate,error,fx,fy,fz,tx,ty,tz,coordinate2,coordinate3,coordinate4,"
+            "coordinate5,coordinate6");
+  EXPECT_EQ(joints[1], "0,pivot,0,0,0,0,0,0,0,0,,,,,");  // a hinge has one coordinate
   const auto hinge = split(joints[3]);
-  ASSERT_EQ(hinge.size(), 10u);
-  EXPECT_EQ(std::strtod(hinge[2].c_str(), nullptr), *world.jointCoordinate(linx::JointId{0}));
+  ASSERT_EQ(hinge.size(), 15u);
+  EXPECT_EQ(std::strtod(hinge[2].c_str(), nullptr), world.jointCoordinates(linx::JointId{0})[0]);
   EXPECT_EQ(std::strtod(hinge[3].c_str(), nullptr), world.jointError(linx::JointId{0}));
   const linx::JointReaction reaction = world.jointReaction(linx::JointId{0});
   for (int i = 0; i < 3; ++i) {
@@ -132,7 +134,7 @@ TEST_F(RecorderTest, WritesHeadersRowsAndFullPrecision) {
   }
   EXPECT_GT(reaction.force.z(), 0.0);  // the pivot holds the bob up
   const auto weld = split(joints[4]);
-  ASSERT_EQ(weld.size(), 10u);
+  ASSERT_EQ(weld.size(), 15u);
   EXPECT_EQ(weld[1], "weld");
   EXPECT_EQ(weld[2], "");  // a fixed joint has no coordinate
 

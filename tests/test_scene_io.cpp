@@ -163,28 +163,28 @@ TEST(SceneRead, EveryField) {
   EXPECT_EQ(slider.def.body2, linx::BodyId{0});
   EXPECT_EQ(slider.def.anchor, arm.position);  // defaults to body1's position
   EXPECT_TRUE(slider.def.axis.isApprox(linx::Vec3(0.6, 0, 0.8), 1e-15));
-  ASSERT_TRUE(slider.def.limits);
-  EXPECT_EQ(slider.def.limits->lower, -0.5);
-  EXPECT_EQ(slider.def.limits->upper, linx::kInfinity);
-  ASSERT_TRUE(slider.def.motor);
-  EXPECT_EQ(slider.def.motor->target_velocity, 0.0);
-  EXPECT_EQ(slider.def.motor->max_force, 10.0);
+  ASSERT_TRUE(slider.def.coordinates[0].limits);
+  EXPECT_EQ(slider.def.coordinates[0].limits->lower, -0.5);
+  EXPECT_EQ(slider.def.coordinates[0].limits->upper, linx::kInfinity);
+  ASSERT_TRUE(slider.def.coordinates[0].motor);
+  EXPECT_EQ(slider.def.coordinates[0].motor->target_velocity, 0.0);
+  EXPECT_EQ(slider.def.coordinates[0].motor->max_force, 10.0);
   EXPECT_EQ(slider.def.erp, 0.5);
   EXPECT_EQ(slider.def.cfm, 0.01);
 
   const linx::SceneJoint& fixed = s.joints[1];
   EXPECT_EQ(fixed.def.body2, linx::kWorldBody);  // body2 left out
   EXPECT_EQ(fixed.def.anchor, linx::Vec3(7, 8, 9));
-  EXPECT_FALSE(fixed.def.limits);
+  EXPECT_FALSE(fixed.def.coordinates[0].limits);
   EXPECT_FALSE(fixed.def.erp);
 
   EXPECT_EQ(s.joints[2].type, "ball");
   const linx::SceneJoint& hinge = s.joints[3];
   EXPECT_EQ(hinge.def.body2, linx::kWorldBody);  // "world"
   EXPECT_EQ(hinge.def.axis, linx::Vec3(0, 1, 0));
-  EXPECT_EQ(hinge.def.limits->lower, -1.0);
-  EXPECT_EQ(hinge.def.limits->upper, 1.0);
-  EXPECT_EQ(hinge.def.motor->target_velocity, -2.0);
+  EXPECT_EQ(hinge.def.coordinates[0].limits->lower, -1.0);
+  EXPECT_EQ(hinge.def.coordinates[0].limits->upper, 1.0);
+  EXPECT_EQ(hinge.def.coordinates[0].motor->target_velocity, -2.0);
 }
 
 TEST(SceneRead, StaticBodyNeedsNoMassOrInertia) {
@@ -292,7 +292,7 @@ TEST(SceneRead, ExampleGeometry) {
   const std::filesystem::path dir = LINX_EXAMPLES_DIR;
   const linx::Scene crank = linx::loadScene(dir / "slider_crank.json");
   EXPECT_EQ(crank.settings.solver.type, linx::SolverType::Exact);
-  EXPECT_EQ(crank.joints[0].def.motor->target_velocity, 2 * std::acos(-1.0));
+  EXPECT_EQ(crank.joints[0].def.coordinates[0].motor->target_velocity, 2 * std::acos(-1.0));
   EXPECT_EQ(crank.joints[3].type, "slider");
   EXPECT_EQ(crank.joints[3].def.anchor, linx::Vec3(0.4, 0, 0));  // the piston's centre
 
@@ -797,16 +797,47 @@ TEST(SceneError, Joints) {
        "joints[0].spring.length", "unknown field"},
       {joint(R"({"name": "f", "type": "fixed", "body1": "a", "spring": {"stiffness": 1}})"),
        "joints[0].spring", "not used by a fixed joint"},
+      {[](json& s) { s["joints"][0]["friction"] = -1; }, "joints[0].friction", "must be >= 0"},
+      {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
+                 "axis1": [1,0,0], "axis2": [0,1,0], "limits": {"upper": 1}})"),
+       "joints[0].limits",
+       "a universal joint has 2 coordinates: give it in one of them (angle1.limits)"},
+      {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
+                 "axis1": [1,0,0], "axis2": [0,1,0], "angle2": {"stiffness": 1}})"),
+       "joints[0].angle2.stiffness", "unknown field"},
+      {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
+                 "axis1": [1,0,0], "axis2": [0,1,0], "angle1": {"friction": -2}})"),
+       "joints[0].angle1.friction", "must be >= 0"},
+      {joint(R"({"name": "h", "type": "hinge", "body1": "a", "anchor": [0,0,0],
+                 "axis": [1,0,0], "angle1": {}})"),
+       "joints[0].angle1", "unknown field"},
       {[](json& s) { s["joints"][0]["erp"] = 2; }, "joints[0].erp", "must be between 0 and 1"},
       {[](json& s) { s["joints"][0]["cfm"] = -1; }, "joints[0].cfm", "must be >= 0"},
   });
+}
+
+TEST(SceneRead, EachCoordinateOfAUniversalJoint) {
+  json scene = baseScene();
+  scene["joints"][0] = json::parse(R"({"name": "u", "type": "universal", "body1": "a",
+      "anchor": [0, 0, 0], "axis1": [1, 0, 0], "axis2": [0, 1, 0],
+      "angle1": {"limits": {"lower": -0.5}, "friction": 0.25},
+      "angle2": {"spring": {"stiffness": 3}, "motor": {"target_velocity": 1, "max_force": 2}}})");
+  const linx::JointDef d = parse(scene).joints.at(0).def;
+  ASSERT_TRUE(d.coordinates[0].limits);
+  EXPECT_EQ(d.coordinates[0].limits->lower, -0.5);
+  EXPECT_EQ(d.coordinates[0].friction, 0.25);
+  EXPECT_FALSE(d.coordinates[0].motor || d.coordinates[0].spring);
+  ASSERT_TRUE(d.coordinates[1].spring && d.coordinates[1].motor);
+  EXPECT_EQ(d.coordinates[1].spring->stiffness, 3.0);
+  EXPECT_EQ(d.coordinates[1].motor->max_force, 2.0);
+  EXPECT_TRUE(d.coordinates[2].empty());
 }
 
 TEST(SceneRead, TargetsInTime) {
   json scene = baseScene();
   scene["joints"][0]["motor"] = {
       {"target_position", {{"times", {0, 1, 2.5}}, {"values", {0, 0.5, -1}}}}, {"stiffness", 100}};
-  const linx::JointMotor m = *parse(scene).joints.at(0).def.motor;
+  const linx::JointMotor m = *parse(scene).joints.at(0).def.coordinates[0].motor;
   EXPECT_EQ(m.target_position->times, (std::vector<double>{0, 1, 2.5}));
   EXPECT_EQ(m.target_position->values, (std::vector<double>{0, 0.5, -1}));
   EXPECT_EQ(m.target_position->at(1.75), -0.25);
@@ -816,7 +847,7 @@ TEST(SceneRead, TargetsInTime) {
   std::ofstream(dir / "speed.csv") << "time,speed\r\n0,0\r\n2,4\r\n3,4\r\n";
   scene["joints"][0]["motor"] = {{"target_velocity", {{"file", "speed.csv"}}}, {"max_force", 5}};
   const linx::Scene read = linx::parseScene(scene.dump(), (dir / "scene.json").string());
-  const linx::Signal& v = read.joints.at(0).def.motor->target_velocity;
+  const linx::Signal& v = read.joints.at(0).def.coordinates[0].motor->target_velocity;
   EXPECT_EQ(v.times, (std::vector<double>{0, 2, 3}));
   EXPECT_EQ(v.at(1.0), 2.0);
   std::ofstream(dir / "bad.csv") << "0,0\n1,x\n";
@@ -840,20 +871,20 @@ TEST(SceneRead, DrivesAndSprings) {
   scene["joints"][0]["spring"] = {{"stiffness", 5}, {"damping", 0.1}, {"rest", -0.2}};
   const linx::Scene s = parse(scene);
   const linx::JointDef& d = s.joints.at(0).def;
-  ASSERT_TRUE(d.motor && d.spring);
-  EXPECT_EQ(d.motor->target_position, 0.5);
-  EXPECT_EQ(d.motor->stiffness, 1e4);
-  EXPECT_EQ(d.motor->damping, 20.0);
-  EXPECT_EQ(d.motor->max_force, 30.0);
-  EXPECT_EQ(d.motor->target_velocity, 0.0);
-  EXPECT_EQ(d.spring->stiffness, 5.0);
-  EXPECT_EQ(d.spring->damping, 0.1);
-  EXPECT_EQ(d.spring->rest, -0.2);
+  ASSERT_TRUE(d.coordinates[0].motor && d.coordinates[0].spring);
+  EXPECT_EQ(d.coordinates[0].motor->target_position, 0.5);
+  EXPECT_EQ(d.coordinates[0].motor->stiffness, 1e4);
+  EXPECT_EQ(d.coordinates[0].motor->damping, 20.0);
+  EXPECT_EQ(d.coordinates[0].motor->max_force, 30.0);
+  EXPECT_EQ(d.coordinates[0].motor->target_velocity, 0.0);
+  EXPECT_EQ(d.coordinates[0].spring->stiffness, 5.0);
+  EXPECT_EQ(d.coordinates[0].spring->damping, 0.1);
+  EXPECT_EQ(d.coordinates[0].spring->rest, -0.2);
   // A servo and a damped motor need no bound; a velocity motor still does (errors above).
   scene["joints"][0]["motor"] = {{"target_position", 0.5}, {"stiffness", 1e4}};
-  EXPECT_EQ(parse(scene).joints.at(0).def.motor->max_force, linx::kInfinity);
+  EXPECT_EQ(parse(scene).joints.at(0).def.coordinates[0].motor->max_force, linx::kInfinity);
   scene["joints"][0]["motor"] = {{"target_velocity", 2}, {"damping", 3}};
-  const linx::JointMotor damped = *parse(scene).joints.at(0).def.motor;
+  const linx::JointMotor damped = *parse(scene).joints.at(0).def.coordinates[0].motor;
   EXPECT_TRUE(damped.isServo());
   EXPECT_EQ(damped.max_force, linx::kInfinity);
 }

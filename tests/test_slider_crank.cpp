@@ -19,7 +19,7 @@ CrankRun run(const SolverSettings& solver, double seconds) {
   const int n = static_cast<int>(std::lround(seconds / m.world.settings().timestep));
   for (int i = 0; i < n; ++i) {
     m.world.step();
-    const double phi = *m.world.jointCoordinate(m.crank_hinge);
+    const double phi = m.world.jointCoordinates(m.crank_hinge)[0];
     const double x = m.world.body(m.piston).position().x();
     out.piston_error = std::max(out.piston_error, std::abs(x - test::SliderCrank::pistonX(phi)));
     if (i > 50)  // after the spin-up at the motor's torque bound

@@ -47,9 +47,9 @@ TEST_P(SliderIncline, FollowsUniformAccelerationAlongTheAxis) {
     // Symplectic Euler's exact discrete solution: s_n = a h^2 n (n + 1) / 2.
     const double s_exact = a * h * h * i * (i + 1) / 2.0;
     worst_discrete =
-        std::max(worst_discrete, std::abs(*in.world.jointCoordinate(in.slider) - s_exact));
+        std::max(worst_discrete, std::abs(in.world.jointCoordinates(in.slider)[0] - s_exact));
   }
-  const double t = n * h, s = *in.world.jointCoordinate(in.slider);
+  const double t = n * h, s = in.world.jointCoordinates(in.slider)[0];
   std::printf("s(1 s) = %.9f m, 1/2 a t^2 = %.9f m, worst against the discrete solution %.2e m\n",
               s, 0.5 * a * t * t, worst_discrete);
   EXPECT_LT(worst_discrete, 1e-9);
@@ -74,13 +74,13 @@ TEST(Slider, LimitStopsTheBlockAtTheBound) {
     double highest = 0.0;
     for (int i = 0; i < 2000; ++i) {
       in.world.step();
-      highest = std::max(highest, *in.world.jointCoordinate(in.slider));
+      highest = std::max(highest, in.world.jointCoordinates(in.slider)[0]);
     }
     std::printf("%s: highest position %.12f m against the bound 0.3 m\n",
                 std::string(solverTypeName(type)).c_str(), highest);
     // A speculative limit row lets the block arrive exactly at the bound: only round-off passes it.
     EXPECT_LT(highest, 0.3 + 1e-9);
-    EXPECT_NEAR(*in.world.jointCoordinate(in.slider), 0.3, 1e-9);  // resting on it
+    EXPECT_NEAR(in.world.jointCoordinates(in.slider)[0], 0.3, 1e-9);  // resting on it
     EXPECT_LT(in.world.body(in.block).linearVelocity().norm(), 1e-9);
   }
 }
@@ -95,12 +95,12 @@ TEST(Slider, MotorDrivesAtTheTargetSpeedAndReadsPositivelyAlongTheAxis) {
   // Spinning up at the 50 N bound against the weight's 4.905 N along the axis takes
   // t_up = 0.5 / 45.095 s; the lag is about 0.5 t_up / 2 = 2.77 mm (discretely a little less).
   const double t_up = 0.5 / (50.0 - 9.81 * std::sin(0.5236));
-  EXPECT_NEAR(*in.world.jointCoordinate(in.slider), -0.5 * 1.0 + 0.5 * t_up / 2.0, 5e-4);
+  EXPECT_NEAR(in.world.jointCoordinates(in.slider)[0], -0.5 * 1.0 + 0.5 * t_up / 2.0, 5e-4);
   // The motor's force equals the weight's component along the axis: after the first step (spin
   // up) the position follows -0.5 t exactly.
-  const double s0 = *in.world.jointCoordinate(in.slider);
+  const double s0 = in.world.jointCoordinates(in.slider)[0];
   for (int i = 0; i < 100; ++i) in.world.step();
-  EXPECT_NEAR(*in.world.jointCoordinate(in.slider) - s0, -0.05, 1e-9);
+  EXPECT_NEAR(in.world.jointCoordinates(in.slider)[0] - s0, -0.05, 1e-9);
 }
 
 TEST(Slider, RowsStayExactWhenBothBodiesRotateTogether) {

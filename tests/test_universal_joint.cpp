@@ -5,9 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include "random_state.hpp"
+
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <random>
 
 namespace linx {
 namespace {
@@ -35,11 +40,13 @@ Cardan makeCardan(double beta, double omega, SolverType type) {
   BodyDef d = test::boxBody("driven", 1.0, Vec3(1.0, 0.05, 0.05), 0.5 * c.axis2);
   d.orientation = Quat(Eigen::AngleAxisd(-beta, Vec3::UnitY()));  // its length along axis2
   c.driven = c.world.createBody(d);
-  c.world.createJoint("hinge", JointDef{.name = "bearing1",
-                                        .body1 = c.driver,
-                                        .anchor = Vec3(-0.5, 0, 0),
-                                        .axis = Vec3::UnitX(),
-                                        .motor = JointMotor{.target_velocity = omega}});
+  c.world.createJoint(
+      "hinge",
+      JointDef{.name = "bearing1",
+               .body1 = c.driver,
+               .anchor = Vec3(-0.5, 0, 0),
+               .axis = Vec3::UnitX(),
+               .coordinates = {CoordinateDef{.motor = JointMotor{.target_velocity = omega}}}});
   c.world.createJoint(
       "hinge",
       JointDef{.name = "bearing2", .body1 = c.driven, .anchor = 0.5 * c.axis2, .axis = c.axis2});
@@ -138,8 +145,124 @@ TEST(UniversalJoint, HoldsItsPointAndItsCrossUnderATumble) {
   // First order in h: impulses at the step's start poses, positions projected after the step.
   EXPECT_LT(dl, 5e-4);
   EXPECT_LT(de, 5e-4);
-  EXPECT_FALSE(w.jointCoordinate(j).has_value());
+  EXPECT_EQ(w.jointCoordinates(j).size(), 2);
 }
+
+TEST(UniversalJoint, CoordinatesAreTheTurnsAboutEachArm) {
+  // Body 1 turned by alpha about its arm a1, then (cross and all) by beta about body 2's arm a2,
+  // then both bodies by a common rotation G that the joint cannot see: the coordinates read
+  // (alpha, beta).
+  std::mt19937 rng(5);
+  const auto randomQuat = [&] { return test::randomState(rng).pose.orientation; };
+  int checked = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const BodyState c1{Pose{Vec3(0.1, 0.2, 0.3), randomQuat()}, Vec3::Zero(), Vec3::Zero()};
+    const BodyState c2{Pose{Vec3(-0.4, 0.0, 0.1), randomQuat()}, Vec3::Zero(), Vec3::Zero()};
+    const Vec3 a1 = randomQuat() * Vec3::UnitX();
+    const Vec3 a2 = a1.unitOrthogonal();
+    std::unique_ptr<Joint> j =
+        makeJoint("universal",
+                  JointDef{.name = "u", .anchor = Vec3::Zero(), .axis = a1, .axis2 = a2}, c1, c2);
+    EXPECT_LT(j->coordinates(c1, c2).norm(), 1e-15);
+    std::uniform_real_distribution<double> angle(-3.0, 3.0);
+    const double alpha = angle(rng), beta = angle(rng);
+    const Quat g = randomQuat();
+    const Quat turn = Quat(Eigen::AngleAxisd(beta, a2)) * Quat(Eigen::AngleAxisd(alpha, a1));
+    const BodyState b1{Pose{c1.pose.position, g * turn * c1.pose.orientation}, {}, {}};
+    const BodyState b2{Pose{c2.pose.position, g * c2.pose.orientation}, {}, {}};
+    const JointCoordinates q = j->coordinates(b1, b2);
+    ASSERT_EQ(q.size(), 2);
+    EXPECT_NEAR(q[0], alpha, 1e-12);
+    EXPECT_NEAR(q[1], beta, 1e-12);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 50);
+}
+
+// A box centred on the joint, held by a universal joint to the world: arm 1 along x turns with the
+// box, arm 2 along y is the world's. Started turning about one arm, it turns about that arm alone
+// (a principal axis through its centre), under what acts on that coordinate.
+struct Gimbal {
+  World world;
+  BodyId box;
+  JointId joint;
+  double inertia[2];  // about x and y
+};
+
+Gimbal makeGimbal(int coordinate, const CoordinateDef& on_it, double rate) {
+  WorldSettings s;
+  s.gravity.setZero();
+  s.timestep = 1e-3;
+  s.sleep.enabled = false;
+  Gimbal g{World(s), {}, {}, {}};
+  const double m = 2.0;
+  const Vec3 size(0.2, 0.4, 0.6);
+  BodyDef d = test::boxBody("box", m, size, Vec3::Zero());
+  d.angular_velocity = rate * Vec3::Unit(coordinate);
+  g.box = g.world.createBody(d);
+  JointDef def{.name = "u",
+               .body1 = g.box,
+               .anchor = Vec3::Zero(),
+               .axis = Vec3::UnitX(),
+               .axis2 = Vec3::UnitY()};
+  def.coordinates[static_cast<std::size_t>(coordinate)] = on_it;
+  g.joint = g.world.createJoint("universal", def);
+  g.inertia[0] = m * (size.y() * size.y() + size.z() * size.z()) / 12.0;
+  g.inertia[1] = m * (size.x() * size.x() + size.z() * size.z()) / 12.0;
+  return g;
+}
+
+class GimbalCoordinate : public testing::TestWithParam<int> {};
+
+TEST_P(GimbalCoordinate, SpringOscillatesWithItsPeriodAndKeepsItsAmplitude) {
+  // x'' = -(k / I) x from x = 0, x' = w0: x = (w0 / omega) sin(omega t), 100 steps a period.
+  const int i = GetParam();
+  const double w0 = 0.5, period = 0.1;
+  Gimbal probe = makeGimbal(i, {}, 0.0);
+  const double inertia = probe.inertia[i];
+  const double omega = 2.0 * M_PI / period, k = inertia * omega * omega;
+  Gimbal g = makeGimbal(i, CoordinateDef{.spring = JointSpring{.stiffness = k}}, w0);
+  double highest = 0.0, last = 0.0, crossing = -1.0, first_crossing = -1.0;
+  int crossings = 0;
+  while (g.world.time() < 10.0 * period - 1e-9) {
+    g.world.step();
+    const JointCoordinates q = g.world.jointCoordinates(g.joint);
+    const double x = q[i];
+    EXPECT_LT(std::abs(q[1 - i]), 1e-9);  // the other arm stays still
+    highest = std::max(highest, std::abs(x));
+    if (last > 0.0 && x <= 0.0) {  // a downward zero crossing, interpolated
+      crossing = g.world.time() - g.world.settings().timestep * x / (x - last);
+      if (first_crossing < 0.0) first_crossing = crossing;
+      ++crossings;
+    }
+    last = x;
+  }
+  const double measured = (crossing - first_crossing) / (crossings - 1);
+  std::printf("angle%d: amplitude %.6f rad (closed form %.6f), period %.6f s (closed form %.6f)\n",
+              i + 1, highest, w0 / omega, measured, period);
+  EXPECT_NEAR(highest / (w0 / omega), 1.0, 5e-3);
+  EXPECT_NEAR(measured / period, 1.0, 5e-3);
+  EXPECT_LT(g.world.maxJointError(), 1e-9);
+}
+
+TEST_P(GimbalCoordinate, LimitStopsTheArmAndMotorDrivesIt) {
+  const int i = GetParam();
+  Gimbal stop = makeGimbal(i, CoordinateDef{.limits = JointLimits{-0.3, 0.3}}, 1.0);
+  double highest = 0.0;
+  for (int n = 0; n < 1000; ++n) {
+    stop.world.step();
+    highest = std::max(highest, stop.world.jointCoordinates(stop.joint)[i]);
+  }
+  EXPECT_NEAR(highest, 0.3, 1e-9);
+  EXPECT_NEAR(stop.world.jointCoordinates(stop.joint)[i], 0.3, 1e-6);  // resting on it
+
+  Gimbal motor = makeGimbal(i, CoordinateDef{.motor = JointMotor{.target_velocity = -2.0}}, 0.0);
+  for (int n = 0; n < 500; ++n) motor.world.step();
+  EXPECT_NEAR(motor.world.jointCoordinates(motor.joint)[i], -2.0 * 0.5, 1e-9);
+}
+
+INSTANTIATE_TEST_SUITE_P(Arms, GimbalCoordinate, testing::Values(0, 1),
+                         [](const auto& info) { return fmt::format("angle{}", info.param + 1); });
 
 TEST(UniversalJoint, ArmsMustBePerpendicular) {
   World w;

@@ -83,10 +83,11 @@ class LinxEngine final : public Engine {
       def.axis = j.axis;
       if (j.limits) {
         const double lo = sign * j.limits->lower, hi = sign * j.limits->upper;
-        def.limits = linx::JointLimits{std::min(lo, hi), std::max(lo, hi)};
+        def.coordinates[0].limits = linx::JointLimits{std::min(lo, hi), std::max(lo, hi)};
       }
       if (j.motor)
-        def.motor = linx::JointMotor{sign * j.motor->target_velocity, j.motor->max_force};
+        def.coordinates[0].motor =
+            linx::JointMotor{sign * j.motor->target_velocity, j.motor->max_force};
       world_.createJoint(typeName(j.kind), def);
     }
   }

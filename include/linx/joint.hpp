@@ -8,6 +8,7 @@
 #include <linx/row.hpp>
 #include <linx/types.hpp>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -68,8 +69,25 @@ struct JointSpring {
   double rest = 0.0;       ///< coordinate at which the spring is relaxed (m or rad)
 };
 
+/// What acts on one free coordinate of a joint (a hinge's angle, a slider's position, each of a
+/// universal joint's two angles): limits, a drive, a spring, and dry friction. Units are the
+/// coordinate's: m and N for a linear one, rad and N m for an angle.
+struct CoordinateDef {
+  std::optional<JointLimits> limits = std::nullopt;
+  std::optional<JointMotor> motor = std::nullopt;
+  std::optional<JointSpring> spring = std::nullopt;
+  /// (N or N m), >= 0: a force of at most this much holds the coordinate's rate at zero (Coulomb
+  /// friction in the joint, a bounded row).
+  double friction = 0.0;
+
+  bool empty() const { return !limits && !motor && !spring && friction == 0.0; }
+};
+
+/// The most free coordinates a joint type has (a generic joint's six).
+inline constexpr int kMaxCoordinates = 6;
+
 /// Plain definition of a joint. All fields in the world frame at creation. Not every type uses
-/// every field: a ball joint has no axis, a fixed joint neither axis, limits nor motor.
+/// every field: a ball joint has no axis, a fixed joint neither axis nor coordinates.
 struct JointDef {
   std::string name;
   BodyId body1 = kWorldBody;  ///< must be a body
@@ -79,10 +97,10 @@ struct JointDef {
   Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame
   /// Universal joint: `axis` turns with body 1 and `axis2` with body 2, perpendicular at creation.
   Vec3 axis2 = Vec3::UnitY();
-  std::optional<JointLimits> limits = std::nullopt;  ///< sliders and hinges
-  std::optional<JointMotor> motor = std::nullopt;    ///< sliders and hinges
-  std::optional<JointSpring> spring = std::nullopt;  ///< sliders and hinges
-  std::optional<double> erp = std::nullopt;          ///< overrides the world's error reduction
+  /// Limits, drives, springs and friction of the type's free coordinates, in the order of
+  /// JointTypeInfo::coordinates (a hinge's angle is coordinates[0]); the rest stay empty.
+  std::array<CoordinateDef, kMaxCoordinates> coordinates = {};
+  std::optional<double> erp = std::nullopt;  ///< overrides the world's error reduction
   std::optional<double> cfm = std::nullopt;  ///< overrides the world's constraint force mixing
   bool collide = false;  ///< the two joined bodies' shapes still collide with each other
 };
@@ -120,6 +138,9 @@ struct JointContext {
   double time = 0.0;
 };
 
+/// A joint's coordinate values (at most kMaxCoordinates, no allocation).
+using JointCoordinates = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCoordinates, 1>;
+
 class Joint {
  public:
   explicit Joint(const JointDef& def) : def_(def) {}
@@ -134,10 +155,10 @@ class Joint {
   /// Fills rows[0..n) and returns n. Rows arrive with erp/cfm set from the context; bodies and
   /// keys are set by assembly. Row slots are stable: slot i always means the same constraint.
   virtual int fill(const JointContext& ctx, std::span<Row> rows) const = 0;
-  /// The joint's coordinate, zero at creation: hinge angle (rad, continuous: it counts turns),
-  /// slider position (m), ball-joint relative rotation angle (rad, >= 0); nothing for a fixed
-  /// joint.
-  virtual std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const = 0;
+  /// The joint's coordinates, zero at creation, in the order of JointTypeInfo::coordinates:
+  /// hinge angle (rad, continuous: it counts turns), slider position (m), a universal joint's two
+  /// angles, ball-joint relative rotation angle (rad, >= 0); none for a fixed joint.
+  virtual JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const = 0;
   /// Called by the world after every (sub)step with the new state, for joints that follow history
   /// (a hinge counts its turns). Motion between two calls must stay below half a turn.
   virtual void track(const BodyState& /*b1*/, const BodyState& /*b2*/) {}
@@ -158,10 +179,12 @@ class Joint {
   BodyId body1() const { return def_.body1; }
   BodyId body2() const { return def_.body2; }
   const JointDef& def() const { return def_; }
-  /// Set or remove the motor / limits; throws std::invalid_argument as makeJoint does.
-  void setMotor(std::optional<JointMotor> motor);
-  void setLimits(std::optional<JointLimits> limits);
-  void setSpring(std::optional<JointSpring> spring);
+  /// Set or remove the motor, limits, spring or friction of free coordinate `coordinate` (the
+  /// order of JointTypeInfo::coordinates); throws std::invalid_argument as makeJoint does.
+  void setMotor(std::optional<JointMotor> motor, int coordinate = 0);
+  void setLimits(std::optional<JointLimits> limits, int coordinate = 0);
+  void setSpring(std::optional<JointSpring> spring, int coordinate = 0);
+  void setFriction(double friction, int coordinate = 0);
 
  private:
   friend std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def,
@@ -176,13 +199,24 @@ class Joint {
 /// definition the type cannot accept (a zero axis, inverted limits, a negative motor force).
 std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
                                  const BodyState& b2);
+/// One coordinate a joint type reports.
+struct CoordinateInfo {
+  std::string_view name;  ///< "angle", "position", "angle1", ... (scene files use it)
+  bool linear = false;    ///< m (else rad)
+  /// Takes a CoordinateDef (limits, motor, spring, friction); a ball joint's angle does not.
+  bool free = true;
+};
+
 /// What a registered joint type uses of a JointDef.
 struct JointTypeInfo {
   std::string_view name;
-  bool needs_anchor = false;    ///< the anchor shapes the constraint (else any point will do)
-  bool uses_axis = false;       ///< JointDef::axis
-  bool uses_axis2 = false;      ///< JointDef::axis2 as well ("axis1" and "axis2" in a scene)
-  bool has_coordinate = false;  ///< a free coordinate: accepts limits, a motor and a spring
+  bool needs_anchor = false;  ///< the anchor shapes the constraint (else any point will do)
+  bool uses_axis = false;     ///< JointDef::axis
+  bool uses_axis2 = false;    ///< JointDef::axis2 as well ("axis1" and "axis2" in a scene)
+  /// The coordinates Joint::coordinates reports, in order.
+  std::span<const CoordinateInfo> coordinates = {};
+  /// How many of them are free (take limits, drives, springs, friction): the first ones.
+  int freeCoordinates() const;
 };
 
 /// The registered joint types, in registration order.

@@ -145,8 +145,9 @@ class World {
   std::int64_t stepCount() const { return steps_; }
   const SolverReport& lastReport() const { return report_; }
 
-  /// The joint's coordinate (hinge angle in rad, slider position in m), zero at creation.
-  std::optional<double> jointCoordinate(JointId id) const;
+  /// The joint's coordinates (hinge angle in rad, slider position in m, ...: Joint::coordinates),
+  /// zero at creation.
+  JointCoordinates jointCoordinates(JointId id) const;
   /// The joint's largest position error (m or rad).
   double jointError(JointId id) const;
   /// What the joint applied to its body1 over the last step (world frame): the force and the

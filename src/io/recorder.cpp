@@ -29,7 +29,8 @@ constexpr std::array<std::string_view, kOutputCount> kFileNames = {"bodies.csv",
                                                                    "world.csv", "contacts.csv"};
 constexpr std::array<std::string_view, kOutputCount> kHeaders = {
     "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz",
-    "time,joint,coordinate,error,fx,fy,fz,tx,ty,tz",
+    "time,joint,coordinate,error,fx,fy,fz,tx,ty,tz,coordinate2,coordinate3,coordinate4,coordinate5,"
+    "coordinate6",
     "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual",
     "time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse",
 };
@@ -116,11 +117,15 @@ void Recorder::record(const World& world) {
   std::FILE* joints = files_->file[kJoints];
   for (int i = 0; i < world.jointCount(); ++i) {
     const JointId id{i};
-    const std::optional<double> coordinate = world.jointCoordinate(id);
+    // The first coordinate after the name; the others (of joints with several) at the end.
+    const JointCoordinates q = world.jointCoordinates(id);
+    std::string coordinate[kMaxCoordinates];
+    for (Eigen::Index k = 0; k < q.size(); ++k) coordinate[k] = fmt::format("{}", q[k]);
     const JointReaction r = world.jointReaction(id);
-    fmt::print(joints, "{},{},{},{},{},{},{},{},{},{}\n", t, csvField(world.joint(id).name()),
-               coordinate ? fmt::format("{}", *coordinate) : std::string(), world.jointError(id),
-               r.force.x(), r.force.y(), r.force.z(), r.torque.x(), r.torque.y(), r.torque.z());
+    fmt::print(joints, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", t,
+               csvField(world.joint(id).name()), coordinate[0], world.jointError(id), r.force.x(),
+               r.force.y(), r.force.z(), r.torque.x(), r.torque.y(), r.torque.z(), coordinate[1],
+               coordinate[2], coordinate[3], coordinate[4], coordinate[5]);
   }
 
   const Energy e = world.energy();

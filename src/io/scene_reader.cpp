@@ -36,6 +36,9 @@ SceneError::SceneError(std::string file, std::string field, std::string problem)
 
 namespace {
 
+// What acts on a joint's free coordinate (CoordinateDef).
+constexpr std::string_view kCoordinateFields[] = {"limits", "motor", "spring", "friction"};
+
 using json = nlohmann::json;
 
 std::string childPath(const std::string& parent, std::string_view key) {
@@ -252,7 +255,7 @@ class Reader {
   void allowOnly(const Node& n, std::initializer_list<std::string_view> allowed) const {
     allowOnly(n, std::vector<std::string_view>(allowed));
   }
-  void allowOnly(const Node& n, const std::vector<std::string_view>& allowed) const {
+  void allowOnly(const Node& n, std::span<const std::string_view> allowed) const {
     expectObject(n);
     for (const auto& [key, value] : n.value.items()) {
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
@@ -721,8 +724,7 @@ class Reader {
 
   SceneJoint joint(const Node& n, const std::vector<BodyDef>& bodies,
                    const std::map<std::string, std::size_t>& body_index) const {
-    allowOnly(n, {"name", "type", "body1", "body2", "anchor", "axis", "axis1", "axis2", "limits",
-                  "motor", "spring", "erp", "cfm", "collide"});
+    expectObject(n);
     SceneJoint joint;
     JointDef& d = joint.def;
     const Node name = require(n, "name");
@@ -744,6 +746,15 @@ class Reader {
                              types[i].name);
       fail(type.path, fmt::format("unknown joint type '{}' (expected {})", joint.type, names));
     }
+    // A joint with one free coordinate takes its limits, motor, spring and friction as its own
+    // fields; one with several, in an object per coordinate named as the type names it.
+    const int free = fields->freeCoordinates();
+    std::vector<std::string_view> allowed{"name",  "type",  "body1", "body2", "anchor", "axis",
+                                          "axis1", "axis2", "erp",   "cfm",   "collide"};
+    allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
+    for (int i = 0; free > 1 && i < free; ++i)
+      allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
+    allowOnly(n, allowed);
     const auto unused = [&](std::string_view key) {
       if (n.value.contains(key)) {
         fail(childPath(n.path, key), fmt::format("not used by a {} joint", joint.type));
@@ -798,19 +809,38 @@ class Reader {
       unused("axis2");
     }
 
-    if (fields->has_coordinate) {
-      if (auto v = get(n, "limits")) d.limits = limits(*v);
-      if (auto v = get(n, "motor")) d.motor = motor(*v);
-      if (auto v = get(n, "spring")) d.spring = spring(*v);
+    if (free == 1) {
+      d.coordinates[0] = coordinate(n);
+    } else if (free > 1) {
+      for (int i = 0; i < free; ++i) {
+        const auto v = get(n, fields->coordinates[static_cast<std::size_t>(i)].name);
+        if (v) {
+          allowOnly(*v, kCoordinateFields);
+          d.coordinates[static_cast<std::size_t>(i)] = coordinate(*v);
+        }
+      }
+      for (std::string_view key : kCoordinateFields)
+        if (n.value.contains(key))
+          fail(childPath(n.path, key),
+               fmt::format("a {} joint has {} coordinates: give it in one of them ({}.{})",
+                           joint.type, free, fields->coordinates[0].name, key));
     } else {
-      unused("limits");
-      unused("motor");
-      unused("spring");
+      for (std::string_view key : kCoordinateFields) unused(key);
     }
     if (auto v = get(n, "erp")) d.erp = unitInterval(*v);
     if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
     if (auto v = get(n, "collide")) d.collide = boolean(*v);
     return joint;
+  }
+
+  // What acts on a free coordinate: the fields kCoordinateFields of `n`.
+  CoordinateDef coordinate(const Node& n) const {
+    CoordinateDef c;
+    if (auto v = get(n, "limits")) c.limits = limits(*v);
+    if (auto v = get(n, "motor")) c.motor = motor(*v);
+    if (auto v = get(n, "spring")) c.spring = spring(*v);
+    if (auto v = get(n, "friction")) c.friction = nonNegative(*v);
+    return c;
   }
 
   JointLimits limits(const Node& n) const {

@@ -17,8 +17,8 @@ int BallJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   return 3;
 }
 
-std::optional<double> BallJoint::coordinate(const BodyState& b1, const BodyState& b2) const {
-  return math::logMap(relativeRotation(frames_, b1, b2)).norm();
+JointCoordinates BallJoint::coordinates(const BodyState& b1, const BodyState& b2) const {
+  return JointCoordinates::Constant(1, math::logMap(relativeRotation(frames_, b1, b2)).norm());
 }
 
 Mat12 BallJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,

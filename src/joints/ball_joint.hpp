@@ -12,7 +12,7 @@ class BallJoint final : public Joint {
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;
-  std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const override;
+  JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
 
  private:
   JointFrames frames_;

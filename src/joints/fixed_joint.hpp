@@ -12,9 +12,7 @@ class FixedJoint final : public Joint {
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;
-  std::optional<double> coordinate(const BodyState&, const BodyState&) const override {
-    return std::nullopt;
-  }
+  JointCoordinates coordinates(const BodyState&, const BodyState&) const override { return {}; }
 
  private:
   JointFrames frames_;

@@ -1,13 +1,11 @@
-// Hinge (revolute) joint: a common anchor and a common axis a. 5 rows, plus a limit row when the
-// angle reaches a bound, a motor row when a motor is set and a spring row when a spring is.
+// Hinge (revolute) joint: a common anchor and a common axis a. 5 rows, plus the rows of what acts
+// on the angle.
 //   point:  C = (p1 + r1) - (p2 + r2) = 0                      J = [ E, -[r1]x | -E, [r2]x ]
 //   align:  C_j = t_j . (a2 x a1) = 0, t_1, t_2 _|_ a2          J_j = [ 0, t_j | 0, -t_j ]
 //   angle:  theta = twist of q2^-1 q1 q0^-1 about a (body 1 relative to body 2, right-hand rule
 //           about the axis, zero at creation), J = [ 0, a | 0, -a ]; unwrapped onto the branch
 //           nearest the angle of the last step, so it counts turns and limits may lie past +-pi
-//   limits: theta >= lower, theta <= upper (unilateral, only when reached)
-//   motor:  J u = target angular velocity, |lambda| <= h max_torque; a servo or a spring is a
-//           drive row on theta (joints/row_parts.hpp, driveRow)
+//   limits, motor, spring, friction on theta: joints/row_parts.hpp, coordinateRows
 #include "joints/hinge_joint.hpp"
 
 #include "math/rotation.hpp"
@@ -19,26 +17,29 @@ namespace linx::joints {
 HingeJoint::HingeJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
 
-std::optional<double> HingeJoint::coordinate(const BodyState& b1, const BodyState& b2) const {
-  const double raw = math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2);
-  constexpr double kTurn = 2.0 * M_PI;
-  return raw + kTurn * std::round((last_angle_ - raw) / kTurn);
+double HingeJoint::angle(const BodyState& b1, const BodyState& b2) const {
+  return unwrap(math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2), last_angle_);
+}
+
+JointCoordinates HingeJoint::coordinates(const BodyState& b1, const BodyState& b2) const {
+  return JointCoordinates::Constant(1, angle(b1, b2));
 }
 
 void HingeJoint::track(const BodyState& b1, const BodyState& b2) {
-  last_angle_ = *coordinate(b1, b2);
+  last_angle_ = angle(b1, b2);
 }
 
 int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   pointRows(Arms::of(frames_, ctx.b1, ctx.b2), rows.subspan<0, 3>());
   alignRows(frames_, ctx.b1, ctx.b2, rows.subspan<3, 2>());
   for (int k = 0; k < 5; ++k) rows[k].key = k;
-  if (!def().limits && !def().motor && !def().spring) return 5;  // the angle only serves those
+  if (def().coordinates[0].empty()) return 5;  // the angle only serves its rows
 
   const Vec3 axis = ctx.b2.pose.orientation * frames_.axis2;
-  const double theta = *coordinate(ctx.b1, ctx.b2);
-  return coordinateRows(
-      ctx, def(), kAngularLimitMargin, [&](Row& row) { angularRow(axis, theta, row); }, rows, 5);
+  const double theta = angle(ctx.b1, ctx.b2);
+  constexpr double kMargins[] = {kAngularLimitMargin};
+  return freeCoordinateRows(
+      ctx, def(), kMargins, [&](std::size_t, Row& row) { angularRow(axis, theta, row); }, rows, 5);
 }
 
 Mat12 HingeJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,

@@ -8,14 +8,16 @@ class HingeJoint final : public Joint {
  public:
   HingeJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
   std::string_view type() const override { return "hinge"; }
-  int maxRows() const override { return 5 + kCoordinateRows; }  // + limits, motor, spring
+  int maxRows() const override { return 5 + kCoordinateRows; }  // + the angle's rows
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;
-  std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const override;
+  JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
  private:
+  double angle(const BodyState& b1, const BodyState& b2) const;
+
   JointFrames frames_;
   double last_angle_ = 0.0;  // the angle at the last track(): the branch to unwrap onto
 };

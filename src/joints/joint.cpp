@@ -3,31 +3,44 @@
 #include "joints/validation.hpp"
 #include "math/rotation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 namespace linx {
 
-void Joint::setMotor(std::optional<JointMotor> motor) {
-  JointDef next = def_;
-  next.motor = motor;
-  joints::validate(*findJointType(type()), next);
-  def_ = next;
+namespace {
+// A copy of `def` with coordinate `index` changed by `edit`, checked against the joint's type.
+template <class Edit>
+JointDef edited(const Joint& joint, int index, Edit&& edit) {
+  const JointTypeInfo& type = *findJointType(joint.type());
+  if (index < 0 || index >= type.freeCoordinates())
+    throw std::invalid_argument(fmt::format("coordinate {}: a {} joint has {} free coordinates",
+                                            index, type.name, type.freeCoordinates()));
+  JointDef next = joint.def();
+  edit(next.coordinates[static_cast<std::size_t>(index)]);
+  joints::validate(type, next);
+  return next;
+}
+}  // namespace
+
+void Joint::setMotor(std::optional<JointMotor> motor, int coordinate) {
+  def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.motor = std::move(motor); });
 }
 
-void Joint::setLimits(std::optional<JointLimits> limits) {
-  JointDef next = def_;
-  next.limits = limits;
-  joints::validate(*findJointType(type()), next);
-  def_ = next;
+void Joint::setLimits(std::optional<JointLimits> limits, int coordinate) {
+  def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.limits = limits; });
 }
 
-void Joint::setSpring(std::optional<JointSpring> spring) {
-  JointDef next = def_;
-  next.spring = spring;
-  joints::validate(*findJointType(type()), next);
-  def_ = next;
+void Joint::setSpring(std::optional<JointSpring> spring, int coordinate) {
+  def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.spring = spring; });
+}
+
+void Joint::setFriction(double friction, int coordinate) {
+  def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.friction = friction; });
 }
 
 double Joint::error(const BodyState& b1, const BodyState& b2) const {

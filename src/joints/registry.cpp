@@ -23,12 +23,17 @@ std::unique_ptr<Joint> make(const JointDef& def, const BodyState& b1, const Body
   return std::make_unique<T>(def, b1, b2);
 }
 
-//                      name         anchor axis   axis2  coordinate
-constexpr std::array<JointTypeInfo, 5> kInfo{{{"fixed", false, false, false, false},
-                                              {"slider", false, true, false, true},
-                                              {"hinge", true, true, false, true},
-                                              {"ball", true, false, false, false},
-                                              {"universal", true, true, true, false}}};
+constexpr CoordinateInfo kPosition[] = {{"position", true}};
+constexpr CoordinateInfo kAngle[] = {{"angle", false}};
+constexpr CoordinateInfo kTwoAngles[] = {{"angle1", false}, {"angle2", false}};
+constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
+
+//                                     name       anchor axis   axis2  coordinates
+constexpr std::array<JointTypeInfo, 5> kInfo{{{"fixed", false, false, false},
+                                              {"slider", false, true, false, kPosition},
+                                              {"hinge", true, true, false, kAngle},
+                                              {"ball", true, false, false, kBallAngle},
+                                              {"universal", true, true, true, kTwoAngles}}};
 constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>, &make<joints::SliderJoint>, &make<joints::HingeJoint>,
     &make<joints::BallJoint>, &make<joints::UniversalJoint>};
@@ -47,12 +52,41 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("erp: must be in [0, 1]");
   if (def.cfm && !(*def.cfm >= 0.0 && std::isfinite(*def.cfm)))
     throw std::invalid_argument("cfm: must be finite and >= 0");
-  if (!t.has_coordinate && (def.limits || def.motor || def.spring))
-    throw std::invalid_argument(fmt::format("a {} joint takes no limits, motor or spring", t.name));
-  if (def.limits && !(def.limits->lower <= def.limits->upper))
-    throw std::invalid_argument("limits: lower must not exceed upper");
-  if (def.motor) validateMotor(*def.motor);
-  if (def.spring) validateSpring(*def.spring);
+  for (int i = 0; i < kMaxCoordinates; ++i) {
+    const CoordinateDef& c = def.coordinates[static_cast<std::size_t>(i)];
+    if (i >= t.freeCoordinates()) {
+      if (c.empty())
+        continue;
+      else if (t.freeCoordinates() == 0)
+        throw std::invalid_argument(
+            fmt::format("a {} joint takes no limits, motor, spring or friction", t.name));
+      else
+        throw std::invalid_argument(
+            fmt::format("coordinates[{}]: a {} joint has {} free "
+                        "coordinates",
+                        i, t.name, t.freeCoordinates()));
+    }
+    // Messages name the coordinate as scene files do: "angle1.limits: ...", or "limits: ..." for
+    // a joint with one.
+    const std::string prefix =
+        t.freeCoordinates() == 1
+            ? ""
+            : fmt::format("{}.", t.coordinates[static_cast<std::size_t>(i)].name);
+    validateCoordinate(c, prefix);
+  }
+}
+
+void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
+  if (c.limits && !(c.limits->lower <= c.limits->upper))
+    throw std::invalid_argument(prefix + "limits: lower must not exceed upper");
+  if (!(std::isfinite(c.friction) && c.friction >= 0.0))
+    throw std::invalid_argument(prefix + "friction: must be finite and >= 0");
+  try {
+    if (c.motor) validateMotor(*c.motor);
+    if (c.spring) validateSpring(*c.spring);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(prefix + e.what());
+  }
 }
 
 void validateSignal(const Signal& s, std::string_view field) {
@@ -97,6 +131,13 @@ void validateSpring(const JointSpring& s) {
 }
 
 }  // namespace joints
+
+int JointTypeInfo::freeCoordinates() const {
+  int n = 0;
+  while (n < static_cast<int>(coordinates.size()) && coordinates[static_cast<std::size_t>(n)].free)
+    ++n;
+  return n;
+}
 
 std::span<const JointTypeInfo> jointTypes() {
   return kInfo;

@@ -103,6 +103,11 @@ void addBody2AxisStiffness(const Vec3& torque, Mat12& k) {
   k.block<3, 3>(9, 9) += math::skew(torque);
 }
 
+void addBody1AxisStiffness(const Vec3& torque, Mat12& k) {
+  k.block<3, 3>(3, 3) -= math::skew(torque);
+  k.block<3, 3>(9, 3) += math::skew(torque);
+}
+
 double rowRate(const Row& row, const BodyState& b1, const BodyState& b2) {
   return row.Ja.head<3>().dot(b1.v) + row.Ja.tail<3>().dot(b1.w) + row.Jb.head<3>().dot(b2.v) +
          row.Jb.tail<3>().dot(b2.w);
@@ -126,12 +131,12 @@ bool limitRow(const JointContext& ctx, double bound, bool lower, double margin, 
   return true;
 }
 
-void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row) {
+void motorRow(const JointContext& ctx, double target, double max_force, Row& row) {
   row.kind = RowKind::Motor;
   row.phi = 0.0;
-  row.speed = motor.target_velocity.at(ctx.time + ctx.h);
-  row.lo = -ctx.h * motor.max_force;
-  row.hi = ctx.h * motor.max_force;
+  row.speed = target;
+  row.lo = -ctx.h * max_force;
+  row.hi = ctx.h * max_force;
 }
 
 double inverseMassAlong(const Row& row, const BodyInertia& m1, const BodyInertia& m2) {

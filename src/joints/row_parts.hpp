@@ -18,6 +18,8 @@
 #include <linx/joint.hpp>
 #include <linx/row.hpp>
 
+#include <cmath>
+
 namespace linx::joints {
 
 /// Joint geometry captured at creation, in each body's frame.
@@ -71,7 +73,7 @@ bool limitRow(const JointContext& ctx, double bound, bool lower, double margin, 
 inline constexpr double kLinearLimitMargin = 1e-3;   ///< (m)
 inline constexpr double kAngularLimitMargin = 2e-2;  ///< (rad)
 /// Turns a coordinate row into a velocity motor row: J u = target, |lambda| <= h max_force.
-void motorRow(const JointContext& ctx, const JointMotor& motor, Row& row);
+void motorRow(const JointContext& ctx, double target, double max_force, Row& row);
 
 /// J M^-1 J^T of one row: the inverse of the mass that the row's direction alone moves.
 double inverseMassAlong(const Row& row, const BodyInertia& m1, const BodyInertia& m2);
@@ -92,31 +94,35 @@ double implicitShare(double stiffness, double inverse_mass, double h);
 void driveRow(const JointContext& ctx, double stiffness, double damping, double target_rate,
               double max_force, Row& row);
 
-/// Row slots of a free coordinate's limits, motor and spring (after a joint's equality rows).
-inline constexpr int kLowerLimitSlot = 5, kUpperLimitSlot = 6, kMotorSlot = 7, kSpringSlot = 8;
-/// Rows a free coordinate may add: two limits, a motor, a spring.
-inline constexpr int kCoordinateRows = 4;
+/// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction) of free
+/// coordinate `index`: after every joint's equality rows (slots below 16).
+constexpr int coordinateSlot(int index, int part) {
+  return 16 + 8 * index + part;
+}
+/// Rows a free coordinate may add: two limits, a motor, a spring, friction.
+inline constexpr int kCoordinateRows = 5;
 
-/// Appends the limit rows (only those reached), the motor row and the spring row of a joint's free
-/// coordinate to rows[n...]; `coordinateRow(row)` fills a row with the coordinate's J and phi.
-/// Writes at most kCoordinateRows rows; returns the new count.
+/// Appends the limit rows (only those reached), the motor row, the spring row and the friction row
+/// of free coordinate `index` (as `c` defines them) to rows[n...]; `coordinateRow(row)` fills a
+/// row with the coordinate's J and phi. Writes at most kCoordinateRows rows; returns the new count.
 template <class CoordinateRow>
-int coordinateRows(const JointContext& ctx, const JointDef& def, double margin,
+int coordinateRows(const JointContext& ctx, const CoordinateDef& c, int index, double margin,
                    CoordinateRow&& coordinateRow, std::span<Row> rows, int n) {
-  if (def.limits) {
-    for (const bool lower : {true, false}) {
-      Row& row = rows[static_cast<std::size_t>(n)];
-      coordinateRow(row);
-      if (limitRow(ctx, lower ? def.limits->lower : def.limits->upper, lower, margin, row)) {
-        row.key = lower ? kLowerLimitSlot : kUpperLimitSlot;
-        ++n;
-      }
-    }
-  }
-  if (def.motor) {
-    const JointMotor& motor = *def.motor;
+  const auto next = [&](int part) -> Row& {
     Row& row = rows[static_cast<std::size_t>(n)];
     coordinateRow(row);
+    row.key = coordinateSlot(index, part);
+    return row;
+  };
+  if (c.limits) {
+    for (const bool lower : {true, false}) {
+      Row& row = next(lower ? 0 : 1);
+      if (limitRow(ctx, lower ? c.limits->lower : c.limits->upper, lower, margin, row)) ++n;
+    }
+  }
+  if (c.motor) {
+    const JointMotor& motor = *c.motor;
+    Row& row = next(2);
     if (motor.isServo()) {
       const Signal* position = motor.target_position ? &*motor.target_position : nullptr;
       // The position target at the step's start (where phi is), the rate over the step.
@@ -125,18 +131,35 @@ int coordinateRows(const JointContext& ctx, const JointDef& def, double margin,
           motor.target_velocity.at(ctx.time + ctx.h) + (position ? position->rate(ctx.time) : 0.0);
       driveRow(ctx, position ? motor.stiffness : 0.0, motor.damping, rate, motor.max_force, row);
     } else {
-      motorRow(ctx, motor, row);
+      motorRow(ctx, motor.target_velocity.at(ctx.time + ctx.h), motor.max_force, row);
     }
-    row.key = kMotorSlot;
     ++n;
   }
-  if (def.spring && (def.spring->stiffness > 0.0 || def.spring->damping > 0.0)) {
-    Row& row = rows[static_cast<std::size_t>(n)];
-    coordinateRow(row);
-    row.phi -= def.spring->rest;
-    driveRow(ctx, def.spring->stiffness, def.spring->damping, 0.0, kInfinity, row);
-    row.key = kSpringSlot;
+  if (c.spring && (c.spring->stiffness > 0.0 || c.spring->damping > 0.0)) {
+    Row& row = next(3);
+    row.phi -= c.spring->rest;
+    driveRow(ctx, c.spring->stiffness, c.spring->damping, 0.0, kInfinity, row);
     ++n;
+  }
+  if (c.friction > 0.0) {
+    motorRow(ctx, 0.0, c.friction, next(4));  // holds the rate at zero with at most the friction
+    ++n;
+  }
+  return n;
+}
+
+/// coordinateRows for each of a joint's free coordinates: `coordinateRow(i, row)` fills a row with
+/// coordinate i's J and phi, `margins[i]` is its limit margin. Skips coordinates with nothing on
+/// them (their value is not even computed).
+template <class CoordinateRow>
+int freeCoordinateRows(const JointContext& ctx, const JointDef& def,
+                       std::span<const double> margins, CoordinateRow&& coordinateRow,
+                       std::span<Row> rows, int n) {
+  for (std::size_t i = 0; i < margins.size(); ++i) {
+    const CoordinateDef& c = def.coordinates[i];
+    if (c.empty()) continue;
+    n = coordinateRows(
+        ctx, c, static_cast<int>(i), margins[i], [&](Row& row) { coordinateRow(i, row); }, rows, n);
   }
   return n;
 }
@@ -151,6 +174,15 @@ Vec3 pointImpulse(std::span<const Row> rows, std::span<const double> lambda);
 /// tau = sum lambda a: tau and -tau turn with body 2, K(rot 1, rot 2) -= [tau]x and
 /// K(rot 2, rot 2) += [tau]x. (Lock rows' axes are the world's: they do not turn.)
 void addBody2AxisStiffness(const Vec3& torque, Mat12& k);
+/// The same for rows whose axis a is fixed in body 1: K(rot 1, rot 1) -= [tau]x and
+/// K(rot 2, rot 1) += [tau]x.
+void addBody1AxisStiffness(const Vec3& torque, Mat12& k);
+
+/// The angle equal to `raw` modulo a turn that is nearest `last`: an angle that counts turns.
+inline double unwrap(double raw, double last) {
+  constexpr double kTurn = 2.0 * 3.14159265358979323846;
+  return raw + kTurn * std::round((last - raw) / kTurn);
+}
 
 /// Rate J u of a row for the given body states.
 double rowRate(const Row& row, const BodyState& b1, const BodyState& b2);

@@ -1,15 +1,12 @@
 // Slider (prismatic) joint: relative rotation locked, relative translation only along the axis n
-// (fixed in body 2). 5 rows, plus a limit row when the position reaches a bound, a motor row and a
-// spring row.
+// (fixed in body 2). 5 rows, plus the rows of what acts on the position.
 // The anchor points, coincident at creation, separate by d = (p1 + r1) - (p2 + r2):
 //   lock:    C = R2 log(q2^-1 q1 q0^-1) = 0                   J_k = [ 0, e_k | 0, -e_k ]
 //   linear:  C_j = t_j . d = 0, t_1, t_2 _|_ n, fixed in body 2
 //            J_j = [ t_j, r1 x t_j | -t_j, -(r2 + d) x t_j ]   (exact: the rows stay right when
 //            both bodies rotate together, because t_j turns with body 2)
 //   position s = n . d (body 1 relative to body 2 along n, m, zero at creation), same J form
-//   limits:  s >= lower, s <= upper (unilateral, only when reached)
-//   motor:   J u = target velocity, |lambda| <= h max_force; a servo or a spring is a drive row
-//            on s (joints/row_parts.hpp, driveRow)
+//   limits, motor, spring, friction on s: joints/row_parts.hpp, coordinateRows
 #include "joints/slider_joint.hpp"
 
 namespace linx::joints {
@@ -17,9 +14,9 @@ namespace linx::joints {
 SliderJoint::SliderJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
 
-std::optional<double> SliderJoint::coordinate(const BodyState& b1, const BodyState& b2) const {
+JointCoordinates SliderJoint::coordinates(const BodyState& b1, const BodyState& b2) const {
   const Arms arms = Arms::of(frames_, b1, b2);
-  return (b2.pose.orientation * frames_.axis2).dot(arms.d);
+  return JointCoordinates::Constant(1, (b2.pose.orientation * frames_.axis2).dot(arms.d));
 }
 
 int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
@@ -32,8 +29,9 @@ int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   for (int k = 0; k < 5; ++k) rows[k].key = k;
 
   const Vec3 n = ctx.b2.pose.orientation * frames_.axis2;
-  return coordinateRows(
-      ctx, def(), kLinearLimitMargin, [&](Row& row) { linearRow(arms, n, row); }, rows, 5);
+  constexpr double kMargins[] = {kLinearLimitMargin};
+  return freeCoordinateRows(
+      ctx, def(), kMargins, [&](std::size_t, Row& row) { linearRow(arms, n, row); }, rows, 5);
 }
 
 }  // namespace linx::joints

@@ -8,9 +8,9 @@ class SliderJoint final : public Joint {
  public:
   SliderJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
   std::string_view type() const override { return "slider"; }
-  int maxRows() const override { return 5 + kCoordinateRows; }  // + limits, motor, spring
+  int maxRows() const override { return 5 + kCoordinateRows; }  // + the position's rows
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
-  std::optional<double> coordinate(const BodyState& b1, const BodyState& b2) const override;
+  JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
 
  private:
   JointFrames frames_;

@@ -1,9 +1,14 @@
 // Universal (Cardan, Hooke) joint: a common anchor, and a cross whose two arms turn in body 1
 // (along a1) and in body 2 (along a2), perpendicular: body 1 may turn about a1 and about a2, not
-// about a1 x a2. 4 rows.
+// about a1 x a2. 4 rows, plus the rows of what acts on the two angles.
 //   point:  C = (p1 + r1) - (p2 + r2) = 0               J = [ E, -[r1]x | -E, [r2]x ]
 //   cross:  C = a1 . a2 = 0                             J = [ 0, n | 0, -n ],  n = a1 x a2
 //           (d/dt a1 . a2 = (w1 x a1) . a2 + a1 . (w2 x a2) = n . (w1 - w2))
+// Coordinates (zero at creation, counting turns): the cross turns in body 2 about a2 by angle2,
+// body 1 turns on the cross about a1 by angle1, so w1 - w2 = angle1' a1 + angle2' a2:
+//   angle1: J = [ 0, a1 | 0, -a1 ], the arm a2 seen from body 1 turning by -angle1 about a1
+//   angle2: J = [ 0, a2 | 0, -a2 ], the arm a1 seen from body 2 turning by angle2 about a2
+//   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/universal_joint.hpp"
 
 #include "math/rotation.hpp"
@@ -20,6 +25,25 @@ UniversalJoint::UniversalJoint(const JointDef& def, const BodyState& b1, const B
     throw std::invalid_argument("axis2: must be perpendicular to axis1 (the cross's two arms)");
   cross1_ = b1.pose.orientation.conjugate() * a1;
   cross2_ = b2.pose.orientation.conjugate() * a2;
+  start1_ = b1.pose.orientation.conjugate() * a2;
+  start2_ = b2.pose.orientation.conjugate() * a1;
+}
+
+Eigen::Vector2d UniversalJoint::angles(const BodyState& b1, const BodyState& b2) const {
+  // Each arm as the other body sees it, against where it was at creation.
+  const Vec3 seen1 = b1.pose.orientation.conjugate() * (b2.pose.orientation * cross2_);
+  const Vec3 seen2 = b2.pose.orientation.conjugate() * (b1.pose.orientation * cross1_);
+  const double raw1 = -std::atan2(cross1_.dot(start1_.cross(seen1)), start1_.dot(seen1));
+  const double raw2 = std::atan2(cross2_.dot(start2_.cross(seen2)), start2_.dot(seen2));
+  return {unwrap(raw1, last_[0]), unwrap(raw2, last_[1])};
+}
+
+JointCoordinates UniversalJoint::coordinates(const BodyState& b1, const BodyState& b2) const {
+  return angles(b1, b2);
+}
+
+void UniversalJoint::track(const BodyState& b1, const BodyState& b2) {
+  last_ = angles(b1, b2);
 }
 
 int UniversalJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
@@ -31,7 +55,17 @@ int UniversalJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   rows[3].Jb << Vec3::Zero(), -n;
   rows[3].phi = a1.dot(a2);
   for (int k = 0; k < 4; ++k) rows[k].key = k;
-  return 4;
+  if (def().coordinates[0].empty() && def().coordinates[1].empty()) return 4;
+
+  const Eigen::Vector2d theta = angles(ctx.b1, ctx.b2);
+  const Vec3 axes[2] = {a1, a2};
+  constexpr double kMargins[] = {kAngularLimitMargin, kAngularLimitMargin};
+  return freeCoordinateRows(
+      ctx, def(), kMargins,
+      [&](std::size_t i, Row& row) {
+        angularRow(axes[i], theta[static_cast<Eigen::Index>(i)], row);
+      },
+      rows, 4);
 }
 
 Mat12 UniversalJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,
@@ -40,9 +74,18 @@ Mat12 UniversalJoint::stiffness(const JointContext& ctx, std::span<const Row> ro
   addPointStiffness(Arms::of(frames_, ctx.b1, ctx.b2), pointImpulse(rows, lambda), k);
   // The cross row's torque l (a1 x a2) on body 1 and its opposite on body 2 turn with both arms:
   // d(a1 x a2) = [a2]x [a1]x dtheta1 - [a1]x [a2]x dtheta2.
+  // The coordinates' rows: torques along a1 (turning with body 1) and a2 (with body 2).
   double l = 0.0;
-  for (std::size_t m = 0; m < rows.size(); ++m)
-    if ((rows[m].key & 0xff) == 3) l += lambda[m];
+  Vec3 torque1 = Vec3::Zero(), torque2 = Vec3::Zero();
+  for (std::size_t m = 0; m < rows.size(); ++m) {
+    const int slot = rows[m].key & 0xff;
+    if (slot == 3) l += lambda[m];
+    if (slot >= coordinateSlot(0, 0) && slot < coordinateSlot(1, 0))
+      torque1 += lambda[m] * rows[m].Ja.tail<3>();
+    if (slot >= coordinateSlot(1, 0)) torque2 += lambda[m] * rows[m].Ja.tail<3>();
+  }
+  addBody1AxisStiffness(torque1, k);
+  addBody2AxisStiffness(torque2, k);
   const Vec3 a1 = ctx.b1.pose.orientation * cross1_;
   const Vec3 a2 = ctx.b2.pose.orientation * cross2_;
   const Mat3 d1 = l * math::skew(a2) * math::skew(a1), d2 = -l * math::skew(a1) * math::skew(a2);

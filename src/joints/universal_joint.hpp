@@ -8,19 +8,22 @@ class UniversalJoint final : public Joint {
  public:
   UniversalJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
   std::string_view type() const override { return "universal"; }
-  int maxRows() const override { return 4; }
+  int maxRows() const override { return 4 + 2 * kCoordinateRows; }  // + the two angles' rows
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;
-  /// Two free coordinates: none is reported yet (docs/joints.md).
-  std::optional<double> coordinate(const BodyState&, const BodyState&) const override {
-    return std::nullopt;
-  }
+  JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
+  void track(const BodyState& b1, const BodyState& b2) override;
 
  private:
+  Eigen::Vector2d angles(const BodyState& b1, const BodyState& b2) const;
+
   JointFrames frames_;
   Vec3 cross1_ = Vec3::UnitZ();  // the cross's arm along body 1's axis, body 1's frame
   Vec3 cross2_ = Vec3::UnitY();  // the arm along body 2's axis, body 2's frame
+  Vec3 start1_ = Vec3::UnitY();  // the arm along axis 2 at creation, body 1's frame
+  Vec3 start2_ = Vec3::UnitZ();  // the arm along axis 1 at creation, body 2's frame
+  Eigen::Vector2d last_ = Eigen::Vector2d::Zero();  // the angles at the last track()
 };
 
 }  // namespace linx::joints

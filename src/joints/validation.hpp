@@ -3,14 +3,18 @@
 
 #include <linx/joint.hpp>
 
+#include <string>
 #include <string_view>
 
 namespace linx::joints {
 
 /// Throws std::invalid_argument naming the field: a non-finite anchor, a zero axis, erp outside
-/// [0, 1], a negative cfm, limits, a motor or a spring on a type without a coordinate, inverted
-/// limits, and what validateMotor and validateSpring refuse.
+/// [0, 1], a negative cfm, a coordinate the type does not have, and what validateCoordinate
+/// refuses.
 void validate(const JointTypeInfo& type, const JointDef& def);
+/// Inverted limits, negative friction, and what validateMotor and validateSpring refuse; `prefix`
+/// starts the message ("angle1." or nothing).
+void validateCoordinate(const CoordinateDef& coordinate, const std::string& prefix);
 /// A constant that is not finite, a table whose times do not increase or whose lengths differ;
 /// `field` names it in the message.
 void validateSignal(const Signal& signal, std::string_view field);

@@ -28,7 +28,10 @@ JointContext contextOf(std::span<const Body> bodies, const Joint& j, const Solve
                    def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
   ctx.time = time;
   // Only drives (servos, springs) read the inertia: the others skip rotating it to the world.
-  if (def.spring || (def.motor && def.motor->isServo())) {
+  const auto drives = [](const CoordinateDef& c) {
+    return c.spring || (c.motor && c.motor->isServo());
+  };
+  if (std::any_of(def.coordinates.begin(), def.coordinates.end(), drives)) {
     ctx.m1 = inertiaOf(bodies, j.body1());
     ctx.m2 = inertiaOf(bodies, j.body2());
   }

@@ -386,10 +386,14 @@ Run readRun(const fs::path& dir) {
   }
 
   // joints.csv: nj rows per frame.
-  // With the joints' reactions (fx ... tz), or without them as runs before they were written.
-  const CsvFile joints(dir / "joints.csv", {{"time", "joint", "coordinate", "error", "fx", "fy",
-                                             "fz", "tx", "ty", "tz"},
-                                            {"time", "joint", "coordinate", "error"}});
+  // With the joints' reactions (fx ... tz) and further coordinates, or without them as runs before
+  // they were written.
+  const CsvFile joints(
+      dir / "joints.csv",
+      {{"time", "joint", "coordinate", "error", "fx", "fy", "fz", "tx", "ty", "tz", "coordinate2",
+        "coordinate3", "coordinate4", "coordinate5", "coordinate6"},
+       {"time", "joint", "coordinate", "error", "fx", "fy", "fz", "tx", "ty", "tz"},
+       {"time", "joint", "coordinate", "error"}});
   if (joints.rows() != frames * nj)
     throw RunError(joints.file(), "rows",
                    fmt::format("expected {} rows ({} frames of {} joints), got {}", frames * nj,

@@ -176,9 +176,9 @@ std::span<const Contact> World::contacts() const {
   return impl_->step.contact.contacts();
 }
 
-std::optional<double> World::jointCoordinate(JointId id) const {
+JointCoordinates World::jointCoordinates(JointId id) const {
   const Joint& j = joint(id);
-  return j.coordinate(bodyState(j.body1()), bodyState(j.body2()));
+  return j.coordinates(bodyState(j.body1()), bodyState(j.body2()));
 }
 
 JointReaction World::jointReaction(JointId id) const {

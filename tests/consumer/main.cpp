@@ -17,7 +17,7 @@ int main() {
   double t_bottom = -1.0;
   while (world.time() < 1.0 && t_bottom < 0.0) {
     world.step();
-    if (*world.jointCoordinate(pivot) >= M_PI / 2) t_bottom = world.time();
+    if (world.jointCoordinates(pivot)[0] >= M_PI / 2) t_bottom = world.time();
   }
   std::printf("bottom reached at t = %.4f s (exact 0.4833 s)\n", t_bottom);
   return std::abs(t_bottom - 1.933335 / 4.0) < 2e-3 ? 0 : 1;
