@@ -680,7 +680,7 @@ TEST(SceneError, Joints) {
        "duplicate joint name 'h' (also joints[0])"},
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
-       "unknown joint type 'cardan' (expected fixed, slider, hinge, ball or universal)"},
+       "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical or hinge2)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],

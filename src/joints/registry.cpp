@@ -1,6 +1,8 @@
 // The joint types known by name. Adding a type: its own file, and one line in kInfo and kMake.
 #include "joints/ball_joint.hpp"
+#include "joints/cylindrical_joint.hpp"
 #include "joints/fixed_joint.hpp"
+#include "joints/hinge2_joint.hpp"
 #include "joints/hinge_joint.hpp"
 #include "joints/slider_joint.hpp"
 #include "joints/universal_joint.hpp"
@@ -26,17 +28,22 @@ std::unique_ptr<Joint> make(const JointDef& def, const BodyState& b1, const Body
 constexpr CoordinateInfo kPosition[] = {{"position", true}};
 constexpr CoordinateInfo kAngle[] = {{"angle", false}};
 constexpr CoordinateInfo kTwoAngles[] = {{"angle1", false}, {"angle2", false}};
+constexpr CoordinateInfo kPositionAngle[] = {{"position", true}, {"angle", false}};
+constexpr CoordinateInfo kWheel[] = {{"wheel", false}, {"steering", false}, {"suspension", true}};
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
 //                                     name       anchor axis   axis2  coordinates
-constexpr std::array<JointTypeInfo, 5> kInfo{{{"fixed", false, false, false},
+constexpr std::array<JointTypeInfo, 7> kInfo{{{"fixed", false, false, false},
                                               {"slider", false, true, false, kPosition},
                                               {"hinge", true, true, false, kAngle},
                                               {"ball", true, false, false, kBallAngle},
-                                              {"universal", true, true, true, kTwoAngles}}};
+                                              {"universal", true, true, true, kTwoAngles},
+                                              {"cylindrical", true, true, false, kPositionAngle},
+                                              {"hinge2", true, true, true, kWheel}}};
 constexpr std::array<Maker, kInfo.size()> kMake{
-    &make<joints::FixedJoint>, &make<joints::SliderJoint>, &make<joints::HingeJoint>,
-    &make<joints::BallJoint>, &make<joints::UniversalJoint>};
+    &make<joints::FixedJoint>, &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
+    &make<joints::BallJoint>,  &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
+    &make<joints::Hinge2Joint>};
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace linx::joints {
 
@@ -26,6 +27,43 @@ JointFrames JointFrames::capture(const JointDef& def, const BodyState& b1, const
   math::orthonormalBasis(f.axis2, f.tangent1, f.tangent2);
   f.rest = (b2.pose.orientation.conjugate() * b1.pose.orientation).normalized();
   return f;
+}
+
+Cross Cross::capture(const Vec3& a1_world, const Vec3& a2_world, const BodyState& b1,
+                     const BodyState& b2) {
+  const Vec3 a1 = a1_world.normalized(), a2 = a2_world.normalized();
+  if (std::abs(a1.dot(a2)) > 1e-6)
+    throw std::invalid_argument("axis2: must be perpendicular to axis1 (the cross's two arms)");
+  Cross c;
+  c.arm1 = b1.pose.orientation.conjugate() * a1;
+  c.arm2 = b2.pose.orientation.conjugate() * a2;
+  c.start1 = b1.pose.orientation.conjugate() * a2;
+  c.start2 = b2.pose.orientation.conjugate() * a1;
+  return c;
+}
+
+void Cross::row(const BodyState& b1, const BodyState& b2, Row& r) const {
+  const Vec3 u1 = a1(b1), u2 = a2(b2);
+  const Vec3 n = u1.cross(u2);
+  r.Ja = block(Vec3::Zero(), n);
+  r.Jb = block(Vec3::Zero(), -n);
+  r.phi = u1.dot(u2);
+}
+
+Eigen::Vector2d Cross::angles(const BodyState& b1, const BodyState& b2) const {
+  const Vec3 seen1 = b1.pose.orientation.conjugate() * a2(b2);  // turns by -angle1 about arm1
+  const Vec3 seen2 = b2.pose.orientation.conjugate() * a1(b1);  // turns by angle2 about arm2
+  return {-std::atan2(arm1.dot(start1.cross(seen1)), start1.dot(seen1)),
+          std::atan2(arm2.dot(start2.cross(seen2)), start2.dot(seen2))};
+}
+
+void Cross::addStiffness(const BodyState& b1, const BodyState& b2, double l, Mat12& k) const {
+  const Vec3 u1 = a1(b1), u2 = a2(b2);
+  const Mat3 d1 = l * math::skew(u2) * math::skew(u1), d2 = -l * math::skew(u1) * math::skew(u2);
+  k.block<3, 3>(3, 3) += d1;
+  k.block<3, 3>(3, 9) += d2;
+  k.block<3, 3>(9, 3) -= d1;
+  k.block<3, 3>(9, 9) -= d2;
 }
 
 Arms Arms::of(const JointFrames& f, const BodyState& b1, const BodyState& b2) {

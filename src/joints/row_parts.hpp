@@ -41,6 +41,31 @@ struct JointFrames {
   static JointFrames capture(const JointDef& def, const BodyState& b1, const BodyState& b2);
 };
 
+/// A cross (universal joint, hinge-2): arm a1 fixed in body 1 and arm a2 fixed in body 2, kept
+/// perpendicular by one row,
+///   C = a1 . a2,  J = [ 0, n | 0, -n ],  n = a1 x a2   (d/dt a1 . a2 = n . (w1 - w2)),
+/// so that body 1 turns on the cross about a1 (angle1) and the cross turns in body 2 about a2
+/// (angle2): w1 - w2 = angle1' a1 + angle2' a2.
+struct Cross {
+  Vec3 arm1 = Vec3::UnitZ();    ///< a1 in body 1's frame
+  Vec3 arm2 = Vec3::UnitY();    ///< a2 in body 2's frame
+  Vec3 start1 = Vec3::UnitY();  ///< a2 at creation, in body 1's frame
+  Vec3 start2 = Vec3::UnitZ();  ///< a1 at creation, in body 2's frame
+
+  /// From the world-frame arms at creation; throws std::invalid_argument naming `axis2` unless
+  /// they are perpendicular.
+  static Cross capture(const Vec3& a1, const Vec3& a2, const BodyState& b1, const BodyState& b2);
+  Vec3 a1(const BodyState& b1) const { return b1.pose.orientation * arm1; }
+  Vec3 a2(const BodyState& b2) const { return b2.pose.orientation * arm2; }
+  void row(const BodyState& b1, const BodyState& b2, Row& row) const;
+  /// (angle1, angle2) in (-pi, pi], zero at creation: each arm as the other body sees it,
+  /// against where it was at creation (to be unwrapped).
+  Eigen::Vector2d angles(const BodyState& b1, const BodyState& b2) const;
+  /// Closed form of the cross row's stiffness for its impulse l: the torque l (a1 x a2) turns
+  /// with both arms, d(a1 x a2) = [a2]x [a1]x dtheta1 - [a1]x [a2]x dtheta2.
+  void addStiffness(const BodyState& b1, const BodyState& b2, double l, Mat12& k) const;
+};
+
 /// World-frame lever arms (centre of mass to anchor) and anchor separation of the current state.
 struct Arms {
   Vec3 r1, r2;

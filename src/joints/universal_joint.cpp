@@ -11,31 +11,16 @@
 //   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/universal_joint.hpp"
 
-#include "math/rotation.hpp"
-
-#include <cmath>
-#include <stdexcept>
-
 namespace linx::joints {
 
 UniversalJoint::UniversalJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
-    : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {
-  const Vec3 a1 = def.axis.normalized(), a2 = def.axis2.normalized();
-  if (std::abs(a1.dot(a2)) > 1e-6)
-    throw std::invalid_argument("axis2: must be perpendicular to axis1 (the cross's two arms)");
-  cross1_ = b1.pose.orientation.conjugate() * a1;
-  cross2_ = b2.pose.orientation.conjugate() * a2;
-  start1_ = b1.pose.orientation.conjugate() * a2;
-  start2_ = b2.pose.orientation.conjugate() * a1;
-}
+    : Joint(def),
+      frames_(JointFrames::capture(def, b1, b2)),
+      cross_(Cross::capture(def.axis, def.axis2, b1, b2)) {}
 
 Eigen::Vector2d UniversalJoint::angles(const BodyState& b1, const BodyState& b2) const {
-  // Each arm as the other body sees it, against where it was at creation.
-  const Vec3 seen1 = b1.pose.orientation.conjugate() * (b2.pose.orientation * cross2_);
-  const Vec3 seen2 = b2.pose.orientation.conjugate() * (b1.pose.orientation * cross1_);
-  const double raw1 = -std::atan2(cross1_.dot(start1_.cross(seen1)), start1_.dot(seen1));
-  const double raw2 = std::atan2(cross2_.dot(start2_.cross(seen2)), start2_.dot(seen2));
-  return {unwrap(raw1, last_[0]), unwrap(raw2, last_[1])};
+  const Eigen::Vector2d raw = cross_.angles(b1, b2);
+  return {unwrap(raw[0], last_[0]), unwrap(raw[1], last_[1])};
 }
 
 JointCoordinates UniversalJoint::coordinates(const BodyState& b1, const BodyState& b2) const {
@@ -48,17 +33,12 @@ void UniversalJoint::track(const BodyState& b1, const BodyState& b2) {
 
 int UniversalJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   pointRows(Arms::of(frames_, ctx.b1, ctx.b2), rows.first<3>());
-  const Vec3 a1 = ctx.b1.pose.orientation * cross1_;
-  const Vec3 a2 = ctx.b2.pose.orientation * cross2_;
-  const Vec3 n = a1.cross(a2);
-  rows[3].Ja << Vec3::Zero(), n;
-  rows[3].Jb << Vec3::Zero(), -n;
-  rows[3].phi = a1.dot(a2);
+  cross_.row(ctx.b1, ctx.b2, rows[3]);
   for (int k = 0; k < 4; ++k) rows[k].key = k;
   if (def().coordinates[0].empty() && def().coordinates[1].empty()) return 4;
 
   const Eigen::Vector2d theta = angles(ctx.b1, ctx.b2);
-  const Vec3 axes[2] = {a1, a2};
+  const Vec3 axes[2] = {cross_.a1(ctx.b1), cross_.a2(ctx.b2)};
   constexpr double kMargins[] = {kAngularLimitMargin, kAngularLimitMargin};
   return freeCoordinateRows(
       ctx, def(), kMargins,
@@ -72,9 +52,8 @@ Mat12 UniversalJoint::stiffness(const JointContext& ctx, std::span<const Row> ro
                                 std::span<const double> lambda) const {
   Mat12 k = Mat12::Zero();
   addPointStiffness(Arms::of(frames_, ctx.b1, ctx.b2), pointImpulse(rows, lambda), k);
-  // The cross row's torque l (a1 x a2) on body 1 and its opposite on body 2 turn with both arms:
-  // d(a1 x a2) = [a2]x [a1]x dtheta1 - [a1]x [a2]x dtheta2.
-  // The coordinates' rows: torques along a1 (turning with body 1) and a2 (with body 2).
+  // The cross row (slot 3), and the coordinates' rows: torques along a1 (turning with body 1)
+  // and a2 (with body 2).
   double l = 0.0;
   Vec3 torque1 = Vec3::Zero(), torque2 = Vec3::Zero();
   for (std::size_t m = 0; m < rows.size(); ++m) {
@@ -84,15 +63,9 @@ Mat12 UniversalJoint::stiffness(const JointContext& ctx, std::span<const Row> ro
       torque1 += lambda[m] * rows[m].Ja.tail<3>();
     if (slot >= coordinateSlot(1, 0)) torque2 += lambda[m] * rows[m].Ja.tail<3>();
   }
+  cross_.addStiffness(ctx.b1, ctx.b2, l, k);
   addBody1AxisStiffness(torque1, k);
   addBody2AxisStiffness(torque2, k);
-  const Vec3 a1 = ctx.b1.pose.orientation * cross1_;
-  const Vec3 a2 = ctx.b2.pose.orientation * cross2_;
-  const Mat3 d1 = l * math::skew(a2) * math::skew(a1), d2 = -l * math::skew(a1) * math::skew(a2);
-  k.block<3, 3>(3, 3) += d1;
-  k.block<3, 3>(3, 9) += d2;
-  k.block<3, 3>(9, 3) -= d1;
-  k.block<3, 3>(9, 9) -= d2;
   return k;
 }
 

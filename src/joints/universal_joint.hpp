@@ -19,10 +19,7 @@ class UniversalJoint final : public Joint {
   Eigen::Vector2d angles(const BodyState& b1, const BodyState& b2) const;
 
   JointFrames frames_;
-  Vec3 cross1_ = Vec3::UnitZ();  // the cross's arm along body 1's axis, body 1's frame
-  Vec3 cross2_ = Vec3::UnitY();  // the arm along body 2's axis, body 2's frame
-  Vec3 start1_ = Vec3::UnitY();  // the arm along axis 2 at creation, body 1's frame
-  Vec3 start2_ = Vec3::UnitZ();  // the arm along axis 1 at creation, body 2's frame
+  Cross cross_;
   Eigen::Vector2d last_ = Eigen::Vector2d::Zero();  // the angles at the last track()
 };
 

@@ -1,0 +1,232 @@
+// The joint types with several free coordinates (cylindrical, hinge-2, universal, and the
+// one-coordinate hinge and slider) against their own definitions and closed forms:
+// - every coordinate row's J u is the time derivative of the coordinate it reports, for any motion
+//   the joint allows (finite differences at random poses);
+// - a cylindrical joint's body slides and spins freely at constant rates, its sprung position
+//   oscillates with period 2 pi sqrt(m / k), a limit on its angle stops it;
+// - a hinge-2 wheel hangs on its suspension spring with the static deflection m g / k and the
+// period
+//   of a mass on a spring, steers to a servo's target, and spins at its motor's rate.
+#include "random_state.hpp"
+#include "support.hpp"
+
+#include "joints/row_parts.hpp"
+#include "math/rotation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+namespace linx {
+namespace {
+
+constexpr double kG = 9.81;
+
+BodyState advance(const BodyState& s, double dt) {
+  return BodyState{Pose{s.pose.position + dt * s.v, math::integrate(s.pose.orientation, s.w, dt)},
+                   s.v, s.w};
+}
+
+Eigen::Matrix<double, 12, 1> velocities(const BodyState& b1, const BodyState& b2) {
+  Eigen::Matrix<double, 12, 1> u;
+  u << b1.v, b1.w, b2.v, b2.w;
+  return u;
+}
+
+Eigen::Matrix<double, 1, 12> jacobian(const Row& r) {
+  Eigen::Matrix<double, 1, 12> j;
+  j << r.Ja.transpose(), r.Jb.transpose();
+  return j;
+}
+
+TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
+  // At a random pose of creation, random velocities projected onto what the joint allows
+  // (J_eq u = 0): the coordinates' finite-difference rates equal their rows' J u. Friction on
+  // every coordinate makes fill() write each coordinate's row.
+  std::mt19937 rng(3);
+  int checked = 0;
+  for (const JointTypeInfo& type : jointTypes()) {
+    if (type.freeCoordinates() == 0) continue;
+    for (int trial = 0; trial < 20; ++trial) {
+      BodyState b1 = test::randomState(rng), b2 = test::randomState(rng);
+      JointDef def{.name = "j", .anchor = test::randomVec(rng, 1.0)};
+      def.axis = test::randomVec(rng, 1.0);
+      def.axis2 = def.axis.unitOrthogonal();
+      for (int i = 0; i < type.freeCoordinates(); ++i)
+        def.coordinates[static_cast<std::size_t>(i)].friction = 1.0;
+      std::unique_ptr<Joint> joint = makeJoint(type.name, def, b1, b2);
+      std::vector<Row> rows(static_cast<std::size_t>(joint->maxRows()));
+      rows.resize(static_cast<std::size_t>(joint->fill(JointContext{b1, b2, 0.01}, rows)));
+
+      Eigen::MatrixXd eq(0, 12);
+      for (const Row& r : rows) {
+        if (r.key >= static_cast<std::uint64_t>(joints::coordinateSlot(0, 0))) continue;
+        eq.conservativeResize(eq.rows() + 1, 12);
+        eq.row(eq.rows() - 1) = jacobian(r);
+      }
+      Eigen::Matrix<double, 12, 1> u = velocities(b1, b2);
+      u -= eq.transpose() * (eq * eq.transpose()).ldlt().solve(eq * u);
+      b1.v = u.segment<3>(0), b1.w = u.segment<3>(3), b2.v = u.segment<3>(6),
+      b2.w = u.segment<3>(9);
+
+      constexpr double eps = 1e-6;
+      const JointCoordinates rate = (joint->coordinates(advance(b1, eps), advance(b2, eps)) -
+                                     joint->coordinates(advance(b1, -eps), advance(b2, -eps))) /
+                                    (2 * eps);
+      for (int i = 0; i < type.freeCoordinates(); ++i) {
+        const auto row = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {
+          return r.key == static_cast<std::uint64_t>(joints::coordinateSlot(i, 4));
+        });
+        ASSERT_NE(row, rows.end()) << type.name << " coordinate " << i;
+        EXPECT_NEAR(rate[i], jacobian(*row) * u, 1e-7)
+            << type.name << " " << type.coordinates[static_cast<std::size_t>(i)].name << " trial "
+            << trial;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3));  // slider, hinge, universal, cylindrical, hinge2
+}
+
+WorldSettings settings(bool gravity) {
+  WorldSettings s;
+  s.timestep = 1e-3;
+  s.sleep.enabled = false;
+  if (!gravity) s.gravity.setZero();
+  return s;
+}
+
+// A 2 kg box on a cylindrical joint to the world along a tilted axis through its centre.
+struct Piston {
+  World world;
+  BodyId box;
+  JointId joint;
+  Vec3 axis;
+  double mass = 2.0, inertia = 0.0;  // about the axis
+};
+
+Piston makePiston(bool gravity, const CoordinateDef& position, const CoordinateDef& angle,
+                  double v0, double w0) {
+  Piston p{World(settings(gravity)), {}, {}, Vec3(1, 2, 2).normalized()};
+  BodyDef d = test::boxBody("box", p.mass, Vec3(0.3, 0.3, 0.3), Vec3(0, 0, 1));  // a cube
+  p.inertia = p.mass * 0.3 * 0.3 / 6.0;  // a cube's, about any axis through its centre
+  d.linear_velocity = v0 * p.axis + Vec3(0.4, -0.2, 0.1).cross(p.axis);  // and some across it
+  d.angular_velocity = w0 * p.axis + Vec3(0.3, 0.1, -0.5).cross(p.axis);
+  p.box = p.world.createBody(d);
+  JointDef def{.name = "piston", .body1 = p.box, .anchor = d.position, .axis = p.axis};
+  def.coordinates[0] = position;
+  def.coordinates[1] = angle;
+  p.joint = p.world.createJoint("cylindrical", def);
+  return p;
+}
+
+TEST(Cylindrical, SlidesAndSpinsFreelyAlongItsAxis) {
+  // The first step removes the velocities across the axis (an inelastic impulse); then the body
+  // slides at v0 and spins at w0: s = v0 t, theta = w0 t.
+  const double v0 = 0.7, w0 = -1.3;
+  Piston p = makePiston(false, {}, {}, v0, w0);
+  double worst = 0.0;
+  for (int n = 1; n <= 1000; ++n) {
+    p.world.step();
+    const JointCoordinates q = p.world.jointCoordinates(p.joint);
+    const double t = p.world.time();
+    worst = std::max({worst, std::abs(q[0] - v0 * t), std::abs(q[1] - w0 * t)});
+  }
+  std::printf("s, theta within %.2e of v0 t, w0 t; joint error %.2e\n", worst,
+              p.world.maxJointError());
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(p.world.maxJointError(), 1e-9);
+}
+
+TEST(Cylindrical, SprungPositionOscillatesAndALimitStopsTheAngle) {
+  // Position: m s'' = -k s from s = 0, s' = v0: s = (v0 / omega) sin(omega t), 100 steps a
+  // period; the angle meanwhile spins at w0 until its upper limit of 1 rad stops it.
+  const double period = 0.1, v0 = 0.5, w0 = 2.0;
+  const double omega = 2.0 * M_PI / period, k = 2.0 * omega * omega;
+  Piston p = makePiston(false, CoordinateDef{.spring = JointSpring{.stiffness = k}},
+                        CoordinateDef{.limits = JointLimits{-kInfinity, 1.0}}, v0, w0);
+  double highest = 0.0, highest_angle = 0.0;
+  while (p.world.time() < 10.0 * period - 1e-9) {
+    p.world.step();
+    const JointCoordinates q = p.world.jointCoordinates(p.joint);
+    highest = std::max(highest, std::abs(q[0]));
+    highest_angle = std::max(highest_angle, q[1]);
+  }
+  std::printf("amplitude %.6f m (closed form %.6f), angle stopped at %.9f rad\n", highest,
+              v0 / omega, highest_angle);
+  EXPECT_NEAR(highest / (v0 / omega), 1.0, 5e-3);
+  EXPECT_NEAR(highest_angle, 1.0, 1e-9);
+  EXPECT_NEAR(p.world.jointCoordinates(p.joint)[1], 1.0, 1e-6);
+}
+
+// A 10 kg wheel on a hinge-2 to the world (the chassis): axle along y, steering axis vertical.
+struct Wheel {
+  World world;
+  BodyId wheel;
+  JointId joint;
+};
+
+Wheel makeWheel(const CoordinateDef& wheel, const CoordinateDef& steering,
+                const CoordinateDef& suspension) {
+  Wheel w{World(settings(true)), {}, {}};
+  w.wheel = w.world.createBody(test::boxBody("wheel", 10.0, Vec3(0.6, 0.2, 0.6), Vec3(0, 0, 0.5)));
+  JointDef def{.name = "hub",
+               .body1 = w.wheel,
+               .anchor = Vec3(0, 0, 0.5),
+               .axis = Vec3::UnitY(),
+               .axis2 = Vec3::UnitZ()};
+  def.coordinates[0] = wheel;
+  def.coordinates[1] = steering;
+  def.coordinates[2] = suspension;
+  w.joint = w.world.createJoint("hinge2", def);
+  return w;
+}
+
+TEST(Hinge2, WheelHangsOnItsSuspensionSpring) {
+  // Released at the spring's rest: s oscillates about -m g / k between 0 and -2 m g / k with
+  // period 2 pi sqrt(m / k).
+  const double m = 10.0, k = 4e4;
+  Wheel w = makeWheel({}, {}, CoordinateDef{.spring = JointSpring{.stiffness = k}});
+  const double period = 2.0 * M_PI * std::sqrt(m / k), sag = m * kG / k;
+  double lowest = 0.0, sum = 0.0;
+  int steps = 0;
+  while (w.world.time() < 10.0 * period) {
+    w.world.step();
+    const double s = w.world.jointCoordinates(w.joint)[2];
+    lowest = std::min(lowest, s);
+    sum += s;
+    ++steps;
+  }
+  std::printf("lowest %.6f m (closed form %.6f), mean %.6f (%.6f), joint error %.2e\n", lowest,
+              -2.0 * sag, sum / steps, -sag, w.world.maxJointError());
+  EXPECT_NEAR(lowest / (-2.0 * sag), 1.0, 5e-3);
+  EXPECT_NEAR(sum / steps / -sag, 1.0, 2e-2);  // the mean over whole periods
+  EXPECT_LT(w.world.maxJointError(), 1e-9);
+}
+
+TEST(Hinge2, SteersToTheServoTargetWhileTheMotorSpinsTheWheel) {
+  Wheel w = makeWheel(
+      CoordinateDef{.motor = JointMotor{.target_velocity = 10.0}},
+      CoordinateDef{.motor =
+                        JointMotor{.target_position = 0.3, .stiffness = 500.0, .damping = 60.0}},
+      CoordinateDef{.limits = JointLimits{0.0, 0.0}});
+  for (int n = 0; n < 2000; ++n) w.world.step();
+  const JointCoordinates q = w.world.jointCoordinates(w.joint);
+  const Vec3 spin = w.world.body(w.wheel).angularVelocity();
+  const Vec3 axle = w.world.body(w.wheel).orientation() * Vec3::UnitY();
+  std::printf("wheel %.6f rad, steering %.9f rad, suspension %.2e m, axle rate %.9f rad/s\n", q[0],
+              q[1], q[2], spin.dot(axle));
+  EXPECT_NEAR(q[1], 0.3, 1e-6);  // settled on the target
+  EXPECT_NEAR(spin.dot(axle), 10.0, 1e-6);
+  EXPECT_NEAR(q[2], 0.0, 1e-6);  // the suspension locked by its limits
+  EXPECT_NEAR(axle.dot(Vec3(-std::sin(0.3), std::cos(0.3), 0)), 1.0, 1e-9);  // steered by 0.3
+  EXPECT_LT(w.world.maxJointError(), 1e-9);
+}
+
+}  // namespace
+}  // namespace linx
