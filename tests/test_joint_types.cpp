@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -226,6 +227,89 @@ TEST(Hinge2, SteersToTheServoTargetWhileTheMotorSpinsTheWheel) {
   EXPECT_NEAR(q[2], 0.0, 1e-6);  // the suspension locked by its limits
   EXPECT_NEAR(axle.dot(Vec3(-std::sin(0.3), std::cos(0.3), 0)), 1.0, 1e-9);  // steered by 0.3
   EXPECT_LT(w.world.maxJointError(), 1e-9);
+}
+
+// A 1 kg ball (radius 2 cm) at (x0, 0, z0), tied to the world point (0, 0, 2) by a distance joint.
+struct Tether {
+  World world;
+  BodyId ball;
+  JointId joint;
+};
+
+Tether makeTether(const Vec3& start, std::optional<double> length, bool rope) {
+  Tether t{World(settings(true)), {}, {}};
+  BodyDef d = test::boxBody("ball", 1.0, Vec3(0.04, 0.04, 0.04), start);
+  t.ball = t.world.createBody(d);
+  t.joint = t.world.createJoint("distance", JointDef{.name = "rod",
+                                                     .body1 = t.ball,
+                                                     .anchor2 = Vec3(0, 0, 2),
+                                                     .length = length,
+                                                     .rope = rope});
+  return t;
+}
+
+TEST(Distance, RodPendulumSwingsWithThePointMassPeriod) {
+  // The rod holds the body's centre: its own rotation is free, so it swings as a point mass,
+  // T = 4 sqrt(L / g) K(sin(theta0 / 2)).
+  const double length = 1.0, theta0 = 0.5;
+  Tether t = makeTether(Vec3(length * std::sin(theta0), 0, 2 - length * std::cos(theta0)),
+                        std::nullopt, false);
+  const double period = test::pendulumPeriod(length * length, 1.0, kG, length, theta0);
+  double last = 1.0, first = -1.0, crossing = -1.0, worst = 0.0;
+  int crossings = 0;
+  while (t.world.time() < 5.0 * period) {
+    t.world.step();
+    const double x = t.world.body(t.ball).position().x();
+    worst = std::max(worst, std::abs(t.world.jointCoordinates(t.joint)[0] - length));
+    if (last > 0.0 && x <= 0.0) {
+      crossing = t.world.time() - t.world.settings().timestep * x / (x - last);
+      if (first < 0.0) first = crossing;
+      ++crossings;
+    }
+    last = x;
+  }
+  const double measured = (crossing - first) / (crossings - 1);
+  std::printf("period %.6f s (closed form %.6f), length kept to %.2e m\n", measured, period, worst);
+  EXPECT_NEAR(measured / period, 1.0, 1e-3);
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(Distance, RopeFallsSlackThenHoldsTaut) {
+  // 0.5 m of slack: free fall (symplectic Euler: z_n = z0 - h^2 g n (n + 1) / 2) until the rope is
+  // taut, which stops the ball there (an inelastic rope) and holds it at its length.
+  Tether t = makeTether(Vec3(0, 0, 1.5), 1.0, true);
+  const double h = t.world.settings().timestep;
+  double worst_fall = 0.0, longest = 0.0;
+  for (int n = 1; n <= 1000; ++n) {
+    t.world.step();
+    const double z = t.world.body(t.ball).position().z();
+    const double free = 1.5 - 0.5 * h * h * kG * n * (n + 1.0);
+    if (free > 1.0 + 1e-3) worst_fall = std::max(worst_fall, std::abs(z - free));
+    longest = std::max(longest, t.world.jointCoordinates(t.joint)[0]);
+  }
+  std::printf("free fall within %.2e m, longest %.12f m, hangs at %.9f m\n", worst_fall, longest,
+              t.world.body(t.ball).position().z());
+  EXPECT_LT(worst_fall, 1e-12);
+  EXPECT_LT(longest, 1.0 + 1e-9);
+  EXPECT_NEAR(t.world.body(t.ball).position().z(), 1.0, 1e-9);
+  EXPECT_LT(t.world.body(t.ball).linearVelocity().norm(), 1e-9);
+}
+
+TEST(Distance, RefusesPointsThatMeetAndANonPositiveLength) {
+  World world;
+  const BodyId b = world.createBody(test::boxBody("b", 1.0, Vec3(0.1, 0.1, 0.1), Vec3::Zero()));
+  const auto message = [&](const JointDef& def) {
+    try {
+      world.createJoint("distance", def);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(JointDef{.name = "d", .body1 = b, .anchor2 = Vec3::Zero()}).substr(0, 42),
+            "anchor2: must be apart from the point on b");
+  EXPECT_EQ(message(JointDef{.name = "d", .body1 = b, .anchor2 = Vec3(1, 0, 0), .length = 0.0}),
+            "length: must be finite and > 0");
 }
 
 }  // namespace

@@ -680,7 +680,8 @@ TEST(SceneError, Joints) {
        "duplicate joint name 'h' (also joints[0])"},
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
-       "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical or hinge2)"},
+       "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
+       "hinge2 or distance)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
@@ -798,6 +799,19 @@ TEST(SceneError, Joints) {
       {joint(R"({"name": "f", "type": "fixed", "body1": "a", "spring": {"stiffness": 1}})"),
        "joints[0].spring", "not used by a fixed joint"},
       {[](json& s) { s["joints"][0]["friction"] = -1; }, "joints[0].friction", "must be >= 0"},
+      {joint(R"({"name": "d", "type": "distance", "body1": "a"})"), "joints[0].anchor2",
+       "missing required field (the point held in the world)"},
+      {joint(R"({"name": "d", "type": "distance", "body1": "a", "anchor2": [1, 0, 0]})"),
+       "joints[0].anchor2", "the two points must be apart at the start (0 m"},
+      {joint(R"({"name": "d", "type": "distance", "body1": "a", "anchor2": [0, 0, 0],
+                 "length": 0})"),
+       "joints[0].length", "must be > 0"},
+      {joint(R"({"name": "d", "type": "distance", "body1": "a", "anchor2": [0, 0, 0],
+                 "anchor": [0, 0, 0]})"),
+       "joints[0].anchor", "not used by a distance joint"},
+      {joint(R"({"name": "h", "type": "hinge", "body1": "a", "anchor": [0, 0, 0],
+                 "axis": [0, 0, 1], "rope": true})"),
+       "joints[0].rope", "not used by a hinge joint"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
                  "axis1": [1,0,0], "axis2": [0,1,0], "limits": {"upper": 1}})"),
        "joints[0].limits",
@@ -831,6 +845,17 @@ TEST(SceneRead, EachCoordinateOfAUniversalJoint) {
   EXPECT_EQ(d.coordinates[1].spring->stiffness, 3.0);
   EXPECT_EQ(d.coordinates[1].motor->max_force, 2.0);
   EXPECT_TRUE(d.coordinates[2].empty());
+}
+
+TEST(SceneRead, DistanceJoint) {
+  json scene = baseScene();
+  scene["joints"][0] = json::parse(R"({"name": "r", "type": "distance", "body1": "a",
+      "body2": "b", "anchor2": [0, 0, 1], "length": 2.5, "rope": true})");
+  const linx::JointDef d = parse(scene).joints.at(0).def;
+  EXPECT_EQ(*d.anchor, linx::Vec3(1, 0, 0));  // body a's position
+  EXPECT_EQ(*d.anchor2, linx::Vec3(0, 0, 1));
+  EXPECT_EQ(*d.length, 2.5);
+  EXPECT_TRUE(d.rope);
 }
 
 TEST(SceneRead, TargetsInTime) {

@@ -97,6 +97,14 @@ struct JointDef {
   Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame
   /// Universal joint: `axis` turns with body 1 and `axis2` with body 2, perpendicular at creation.
   Vec3 axis2 = Vec3::UnitY();
+  /// Distance joint: the point on body 2 (m), world frame at creation; default: body 2's centre
+  /// of mass (`anchor` is the point on body 1).
+  std::optional<Vec3> anchor2 = std::nullopt;
+  /// Distance joint: the distance kept between the two points (m), > 0; default: theirs at
+  /// creation.
+  std::optional<double> length = std::nullopt;
+  /// Distance joint: a rope, which only keeps the points within `length` (else a rod, at it).
+  bool rope = false;
   /// Limits, drives, springs and friction of the type's free coordinates, in the order of
   /// JointTypeInfo::coordinates (a hinge's angle is coordinates[0]); the rest stay empty.
   std::array<CoordinateDef, kMaxCoordinates> coordinates = {};
@@ -213,6 +221,8 @@ struct JointTypeInfo {
   bool needs_anchor = false;  ///< the anchor shapes the constraint (else any point will do)
   bool uses_axis = false;     ///< JointDef::axis
   bool uses_axis2 = false;    ///< JointDef::axis2 as well ("axis1" and "axis2" in a scene)
+  /// JointDef::anchor2, length and rope ("anchor1" and "anchor2" in a scene): a distance joint.
+  bool uses_anchor2 = false;
   /// The coordinates Joint::coordinates reports, in order.
   std::span<const CoordinateInfo> coordinates = {};
   /// How many of them are free (take limits, drives, springs, friction): the first ones.

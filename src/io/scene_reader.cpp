@@ -749,8 +749,9 @@ class Reader {
     // A joint with one free coordinate takes its limits, motor, spring and friction as its own
     // fields; one with several, in an object per coordinate named as the type names it.
     const int free = fields->freeCoordinates();
-    std::vector<std::string_view> allowed{"name",  "type",  "body1", "body2", "anchor", "axis",
-                                          "axis1", "axis2", "erp",   "cfm",   "collide"};
+    std::vector<std::string_view> allowed{"name",    "type",    "body1",   "body2",  "anchor",
+                                          "axis",    "axis1",   "axis2",   "erp",    "cfm",
+                                          "collide", "anchor1", "anchor2", "length", "rope"};
     allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
@@ -782,12 +783,18 @@ class Reader {
       if (d.body2 == d.body1) fail(v->path, "a joint needs two different bodies");
     }
 
-    if (fields->needs_anchor) {
-      d.anchor = vec3(require(n, "anchor"));
-    } else if (auto v = get(n, "anchor")) {
-      d.anchor = vec3(*v);
+    if (fields->uses_anchor2) {
+      distance(n, bodies, d);
+      unused("anchor");
     } else {
-      d.anchor = bodies[static_cast<std::size_t>(d.body1.index)].position;
+      if (fields->needs_anchor) {
+        d.anchor = vec3(require(n, "anchor"));
+      } else if (auto v = get(n, "anchor")) {
+        d.anchor = vec3(*v);
+      } else {
+        d.anchor = bodies[static_cast<std::size_t>(d.body1.index)].position;
+      }
+      for (std::string_view key : {"anchor1", "anchor2", "length", "rope"}) unused(key);
     }
 
     if (fields->uses_axis2) {
@@ -831,6 +838,26 @@ class Reader {
     if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
     if (auto v = get(n, "collide")) d.collide = boolean(*v);
     return joint;
+  }
+
+  // A distance joint's two points (default: the bodies' positions), length and kind.
+  void distance(const Node& n, const std::vector<BodyDef>& bodies, JointDef& d) const {
+    const auto point = [&](std::string_view key, BodyId body) -> Vec3 {
+      if (auto v = get(n, key)) return vec3(*v);
+      if (body.isWorld())
+        fail(childPath(n.path, key), "missing required field (the point held in the world)");
+      return bodies[static_cast<std::size_t>(body.index)].position;
+    };
+    d.anchor = point("anchor1", d.body1);
+    d.anchor2 = point("anchor2", d.body2);
+    const double apart = (*d.anchor - *d.anchor2).norm();
+    if (!(apart > 1e-9))
+      fail(childPath(n.path, n.value.contains("anchor2") ? "anchor2" : "anchor1"),
+           fmt::format("the two points must be apart at the start ({} m; a ball joint joins two "
+                       "points)",
+                       apart));
+    if (auto v = get(n, "length")) d.length = positive(*v);
+    if (auto v = get(n, "rope")) d.rope = boolean(*v);
   }
 
   // What acts on a free coordinate: the fields kCoordinateFields of `n`.

@@ -1,6 +1,7 @@
 // The joint types known by name. Adding a type: its own file, and one line in kInfo and kMake.
 #include "joints/ball_joint.hpp"
 #include "joints/cylindrical_joint.hpp"
+#include "joints/distance_joint.hpp"
 #include "joints/fixed_joint.hpp"
 #include "joints/hinge2_joint.hpp"
 #include "joints/hinge_joint.hpp"
@@ -30,20 +31,31 @@ constexpr CoordinateInfo kAngle[] = {{"angle", false}};
 constexpr CoordinateInfo kTwoAngles[] = {{"angle1", false}, {"angle2", false}};
 constexpr CoordinateInfo kPositionAngle[] = {{"position", true}, {"angle", false}};
 constexpr CoordinateInfo kWheel[] = {{"wheel", false}, {"steering", false}, {"suspension", true}};
+constexpr CoordinateInfo kLength[] = {{"length", true, false}};     // reported, not driven
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
-//                                     name       anchor axis   axis2  coordinates
-constexpr std::array<JointTypeInfo, 7> kInfo{{{"fixed", false, false, false},
-                                              {"slider", false, true, false, kPosition},
-                                              {"hinge", true, true, false, kAngle},
-                                              {"ball", true, false, false, kBallAngle},
-                                              {"universal", true, true, true, kTwoAngles},
-                                              {"cylindrical", true, true, false, kPositionAngle},
-                                              {"hinge2", true, true, true, kWheel}}};
+constexpr std::array<JointTypeInfo, 8> kInfo{{
+    {.name = "fixed"},
+    {.name = "slider", .uses_axis = true, .coordinates = kPosition},
+    {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
+    {.name = "ball", .needs_anchor = true, .coordinates = kBallAngle},
+    {.name = "universal",
+     .needs_anchor = true,
+     .uses_axis = true,
+     .uses_axis2 = true,
+     .coordinates = kTwoAngles},
+    {.name = "cylindrical", .needs_anchor = true, .uses_axis = true, .coordinates = kPositionAngle},
+    {.name = "hinge2",
+     .needs_anchor = true,
+     .uses_axis = true,
+     .uses_axis2 = true,
+     .coordinates = kWheel},
+    {.name = "distance", .uses_anchor2 = true, .coordinates = kLength},
+}};
 constexpr std::array<Maker, kInfo.size()> kMake{
-    &make<joints::FixedJoint>, &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
-    &make<joints::BallJoint>,  &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
-    &make<joints::Hinge2Joint>};
+    &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
+    &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
+    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>};
 
 }  // namespace
 
@@ -55,6 +67,12 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("axis: must be a finite non-zero vector");
   if (t.uses_axis2 && !(def.axis2.allFinite() && def.axis2.norm() > 1e-12))
     throw std::invalid_argument("axis2: must be a finite non-zero vector");
+  if (t.uses_anchor2) {
+    if (def.anchor2 && !def.anchor2->allFinite())
+      throw std::invalid_argument("anchor2: not a finite vector");
+    if (def.length && !(std::isfinite(*def.length) && *def.length > 0.0))
+      throw std::invalid_argument("length: must be finite and > 0");
+  }
   if (def.erp && !(*def.erp >= 0.0 && *def.erp <= 1.0))
     throw std::invalid_argument("erp: must be in [0, 1]");
   if (def.cfm && !(*def.cfm >= 0.0 && std::isfinite(*def.cfm)))

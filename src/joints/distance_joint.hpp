@@ -1,0 +1,21 @@
+#pragma once
+
+#include "joints/row_parts.hpp"
+
+namespace linx::joints {
+
+class DistanceJoint final : public Joint {
+ public:
+  DistanceJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
+  std::string_view type() const override { return "distance"; }
+  int maxRows() const override { return 1; }
+  int fill(const JointContext& ctx, std::span<Row> rows) const override;
+  JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
+
+ private:
+  Vec3 point1_ = Vec3::Zero();  // on body 1, its frame
+  Vec3 point2_ = Vec3::Zero();  // on body 2, its frame
+  double length_ = 0.0;
+};
+
+}  // namespace linx::joints
