@@ -61,6 +61,12 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       for (int i = 0; i < type.freeCoordinates(); ++i)
         def.coordinates[static_cast<std::size_t>(i)].friction = 1.0;
       std::unique_ptr<Joint> joint = makeJoint(type.name, def, b1, b2);
+      // A generic joint constrains nothing of itself: every pose is one it allows, so it is
+      // checked away from its pose of creation (angles up to a radian, ry off gimbal lock).
+      if (type.name == "generic") {
+        b1.pose.orientation = math::expMap(test::randomVec(rng, 0.6)) * b1.pose.orientation;
+        b1.pose.position += test::randomVec(rng, 0.5);
+      }
       std::vector<Row> rows(static_cast<std::size_t>(joint->maxRows()));
       rows.resize(static_cast<std::size_t>(joint->fill(JointContext{b1, b2, 0.01}, rows)));
 
@@ -91,7 +97,8 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       }
     }
   }
-  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3));  // slider, hinge, universal, cylindrical, hinge2
+  // slider, hinge, universal, cylindrical, hinge2, generic
+  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 6));
 }
 
 WorldSettings settings(bool gravity) {
@@ -293,6 +300,110 @@ TEST(Distance, RopeFallsSlackThenHoldsTaut) {
   EXPECT_LT(longest, 1.0 + 1e-9);
   EXPECT_NEAR(t.world.body(t.ball).position().z(), 1.0, 1e-9);
   EXPECT_LT(t.world.body(t.ball).linearVelocity().norm(), 1e-9);
+}
+
+// Locks for a generic joint's coordinates, by index (x, y, z, rx, ry, rz).
+JointDef genericDef(BodyId body, const Vec3& anchor, std::initializer_list<int> locked) {
+  JointDef def{.name = "six",
+               .body1 = body,
+               .anchor = anchor,
+               .axis = Vec3(1, 0, 1).normalized(),  // x: tilted, so that nothing is world-aligned
+               .axis2 = Vec3(0, 1, 0)};
+  for (const int k : locked) def.coordinates[static_cast<std::size_t>(k)].locked = true;
+  return def;
+}
+
+TEST(Generic, AsAHingeSwingsWithThePhysicalPendulumPeriod) {
+  // x, y, z, rx, ry locked: a hinge about the joint's z = x cross y = (-1, 0, 1) / sqrt 2, tilted
+  // 45 degrees from the vertical: gravity's share across it is g cos 45.
+  World world(settings(true));
+  const double m = 2.0, len = 0.6;
+  const Vec3 axis = Vec3(-1, 0, 1).normalized();
+  // A bar along the joint's x, hinged at one end, released 0.4 rad about the axis from hanging.
+  const double theta0 = 0.4;
+  const Vec3 down = Vec3(0, 0, -1) - axis * axis.dot(Vec3(0, 0, -1));  // hanging, across the axis
+  const Vec3 start = Eigen::AngleAxisd(theta0, axis) * down.normalized();
+  BodyDef d = test::boxBody("bar", m, Vec3(len, 0.02, 0.02), 0.5 * len * start);
+  d.orientation = Quat::FromTwoVectors(Vec3::UnitX(), start);
+  const BodyId bar = world.createBody(d);
+  const JointId j = world.createJoint("generic", genericDef(bar, Vec3::Zero(), {0, 1, 2, 3, 4}));
+  const double g_across = kG * down.norm();
+  const double period = test::pendulumPeriod(m * len * len / 3.0, m, g_across, 0.5 * len, theta0);
+  const double h = world.settings().timestep;
+  double last = world.jointCoordinates(j)[5], crossing = -1.0, first = -1.0, worst = 0.0;
+  int crossings = 0;
+  while (world.time() < 5.0 * period) {
+    world.step();
+    const JointCoordinates q = world.jointCoordinates(j);
+    worst = std::max({worst, q.head<5>().cwiseAbs().maxCoeff()});
+    const double angle = q[5] + theta0;  // the swing from hanging (rz is zero at the release)
+    if (last + theta0 > 0.0 && angle <= 0.0) {
+      crossing = world.time() - h * angle / (angle - (last + theta0));
+      if (first < 0.0) first = crossing;
+      ++crossings;
+    }
+    last = q[5];
+  }
+  const double measured = (crossing - first) / (crossings - 1);
+  std::printf("period %.6f s (closed form %.6f), locked coordinates within %.2e\n", measured,
+              period, worst);
+  EXPECT_NEAR(measured / period, 1.0, 1e-3);
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(Generic, AsAPlanarJointMovesFreelyInItsPlane) {
+  // z, rx, ry locked: body 1 slides in the joint's x-y plane and turns about z. Without gravity,
+  // after the first step has removed the velocities out of the plane, x, y and rz grow at
+  // constant rates (the anchor at the body's centre: no coupling).
+  World world(settings(false));
+  BodyDef d = test::boxBody("puck", 1.0, Vec3(0.2, 0.2, 0.2), Vec3(0.1, 0.2, 0.3));  // a cube
+  const Mat3 frame =
+      (Mat3() << Vec3(1, 0, 1).normalized(), Vec3(0, 1, 0), Vec3(-1, 0, 1).normalized()).finished();
+  d.linear_velocity = frame * Vec3(0.3, -0.4, 0.25);
+  d.angular_velocity = frame * Vec3(0.5, -0.2, 1.1);
+  const BodyId puck = world.createBody(d);
+  const JointId j = world.createJoint("generic", genericDef(puck, d.position, {2, 3, 4}));
+  double worst = 0.0;
+  for (int n = 0; n < 1000; ++n) {
+    world.step();
+    const JointCoordinates q = world.jointCoordinates(j);
+    const double t = world.time();
+    Eigen::Matrix<double, 6, 1> exact;
+    exact << 0.3 * t, -0.4 * t, 0, 0, 0, 1.1 * t;
+    worst = std::max(worst, (q - exact).cwiseAbs().maxCoeff());
+  }
+  std::printf("x, y, rz at their rates and z, rx, ry at zero to %.2e\n", worst);
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(Generic, LimitOnATranslationStopsIt) {
+  World world(settings(true));
+  const BodyId b = world.createBody(test::boxBody("b", 1.0, Vec3(0.1, 0.1, 0.1), Vec3(0, 0, 1)));
+  JointDef def = genericDef(b, Vec3(0, 0, 1), {1, 2, 3, 4, 5});  // only x free: a slider
+  def.coordinates[0].limits = JointLimits{-0.25, 0.25};
+  const JointId j = world.createJoint("generic", def);
+  for (int n = 0; n < 2000; ++n) world.step();
+  // Down the x axis (1, 0, 1) / sqrt 2 gravity pulls towards negative x, onto the lower limit.
+  EXPECT_NEAR(world.jointCoordinates(j)[0], -0.25, 1e-9);
+  EXPECT_LT(world.maxJointError(), 1e-9);
+}
+
+TEST(Locked, ALockedHingeAngleHoldsLikeAWeld) {
+  World world(settings(true));
+  const BodyId arm =
+      world.createBody(test::boxBody("arm", 1.0, Vec3(0.5, 0.05, 0.05), Vec3(0.25, 0, 0)));
+  const JointId j =
+      world.createJoint("hinge", JointDef{.name = "h",
+                                          .body1 = arm,
+                                          .anchor = Vec3::Zero(),
+                                          .axis = Vec3::UnitY(),
+                                          .coordinates = {CoordinateDef{.locked = true}}});
+  for (int n = 0; n < 1000; ++n) world.step();
+  EXPECT_NEAR(world.jointCoordinates(j)[0], 0.0, 1e-9);
+  // The weight's torque about the anchor is (L / 2) x cross (-m g z) = +m g L / 2 about y; the
+  // locked angle's torque on the arm cancels it.
+  EXPECT_NEAR(world.jointReaction(j).torque.y(), -kG * 0.25, 1e-6);
+  EXPECT_THROW(world.joint(j).setFriction(1.0), std::invalid_argument);  // locked takes nothing
 }
 
 TEST(Distance, RefusesPointsThatMeetAndANonPositiveLength) {

@@ -681,7 +681,7 @@ TEST(SceneError, Joints) {
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
        "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
-       "hinge2 or distance)"},
+       "hinge2, distance or generic)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
@@ -799,6 +799,9 @@ TEST(SceneError, Joints) {
       {joint(R"({"name": "f", "type": "fixed", "body1": "a", "spring": {"stiffness": 1}})"),
        "joints[0].spring", "not used by a fixed joint"},
       {[](json& s) { s["joints"][0]["friction"] = -1; }, "joints[0].friction", "must be >= 0"},
+      {joint(R"({"name": "g", "type": "generic", "body1": "a", "anchor": [0, 0, 0],
+                 "axis1": [1, 0, 0], "axis2": [0, 1, 0], "rz": {"locked": true, "friction": 1}})"),
+       "joints[0].rz.friction", "a locked coordinate takes nothing else"},
       {joint(R"({"name": "d", "type": "distance", "body1": "a"})"), "joints[0].anchor2",
        "missing required field (the point held in the world)"},
       {joint(R"({"name": "d", "type": "distance", "body1": "a", "anchor2": [1, 0, 0]})"),
@@ -845,6 +848,19 @@ TEST(SceneRead, EachCoordinateOfAUniversalJoint) {
   EXPECT_EQ(d.coordinates[1].spring->stiffness, 3.0);
   EXPECT_EQ(d.coordinates[1].motor->max_force, 2.0);
   EXPECT_TRUE(d.coordinates[2].empty());
+}
+
+TEST(SceneRead, GenericJointLocksAndFreesEachAxis) {
+  json scene = baseScene();
+  scene["joints"][0] = json::parse(R"({"name": "g", "type": "generic", "body1": "a",
+      "anchor": [0, 0, 0], "axis1": [1, 0, 0], "axis2": [0, 1, 0],
+      "x": {"locked": true}, "y": {"limits": {"lower": -1, "upper": 1}}, "rz": {"locked": false}})");
+  const linx::JointDef d = parse(scene).joints.at(0).def;
+  EXPECT_TRUE(d.coordinates[0].locked);
+  EXPECT_FALSE(d.coordinates[1].locked);
+  EXPECT_EQ(d.coordinates[1].limits->upper, 1.0);
+  EXPECT_TRUE(d.coordinates[2].empty());  // free: nothing acts on it
+  EXPECT_TRUE(d.coordinates[5].empty());
 }
 
 TEST(SceneRead, DistanceJoint) {

@@ -79,8 +79,11 @@ struct CoordinateDef {
   /// (N or N m), >= 0: a force of at most this much holds the coordinate's rate at zero (Coulomb
   /// friction in the joint, a bounded row).
   double friction = 0.0;
+  /// Held at its value at creation (an equality row): a generic joint's locked axis. A locked
+  /// coordinate takes nothing else.
+  bool locked = false;
 
-  bool empty() const { return !limits && !motor && !spring && friction == 0.0; }
+  bool empty() const { return !limits && !motor && !spring && friction == 0.0 && !locked; }
 };
 
 /// The most free coordinates a joint type has (a generic joint's six).

@@ -37,7 +37,8 @@ SceneError::SceneError(std::string file, std::string field, std::string problem)
 namespace {
 
 // What acts on a joint's free coordinate (CoordinateDef).
-constexpr std::string_view kCoordinateFields[] = {"limits", "motor", "spring", "friction"};
+constexpr std::string_view kCoordinateFields[] = {"limits", "motor", "spring", "friction",
+                                                  "locked"};
 
 using json = nlohmann::json;
 
@@ -867,6 +868,12 @@ class Reader {
     if (auto v = get(n, "motor")) c.motor = motor(*v);
     if (auto v = get(n, "spring")) c.spring = spring(*v);
     if (auto v = get(n, "friction")) c.friction = nonNegative(*v);
+    if (auto v = get(n, "locked")) {
+      c.locked = boolean(*v);
+      for (std::string_view key : {"limits", "motor", "spring", "friction"})
+        if (c.locked && n.value.contains(key))
+          fail(childPath(n.path, key), "a locked coordinate takes nothing else");
+    }
     return c;
   }
 

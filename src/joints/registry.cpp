@@ -3,6 +3,7 @@
 #include "joints/cylindrical_joint.hpp"
 #include "joints/distance_joint.hpp"
 #include "joints/fixed_joint.hpp"
+#include "joints/generic_joint.hpp"
 #include "joints/hinge2_joint.hpp"
 #include "joints/hinge_joint.hpp"
 #include "joints/slider_joint.hpp"
@@ -31,10 +32,12 @@ constexpr CoordinateInfo kAngle[] = {{"angle", false}};
 constexpr CoordinateInfo kTwoAngles[] = {{"angle1", false}, {"angle2", false}};
 constexpr CoordinateInfo kPositionAngle[] = {{"position", true}, {"angle", false}};
 constexpr CoordinateInfo kWheel[] = {{"wheel", false}, {"steering", false}, {"suspension", true}};
+constexpr CoordinateInfo kSixAxes[] = {{"x", true},   {"y", true},   {"z", true},
+                                       {"rx", false}, {"ry", false}, {"rz", false}};
 constexpr CoordinateInfo kLength[] = {{"length", true, false}};     // reported, not driven
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
-constexpr std::array<JointTypeInfo, 8> kInfo{{
+constexpr std::array<JointTypeInfo, 9> kInfo{{
     {.name = "fixed"},
     {.name = "slider", .uses_axis = true, .coordinates = kPosition},
     {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
@@ -51,11 +54,16 @@ constexpr std::array<JointTypeInfo, 8> kInfo{{
      .uses_axis2 = true,
      .coordinates = kWheel},
     {.name = "distance", .uses_anchor2 = true, .coordinates = kLength},
+    {.name = "generic",
+     .needs_anchor = true,
+     .uses_axis = true,
+     .uses_axis2 = true,
+     .coordinates = kSixAxes},
 }};
 constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
     &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
-    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>};
+    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::GenericJoint>};
 
 }  // namespace
 
@@ -102,6 +110,9 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
 }
 
 void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
+  if (c.locked && (c.limits || c.motor || c.spring || c.friction != 0.0))
+    throw std::invalid_argument(
+        prefix + "locked: a locked coordinate takes no limits, motor, spring or friction");
   if (c.limits && !(c.limits->lower <= c.limits->upper))
     throw std::invalid_argument(prefix + "limits: lower must not exceed upper");
   if (!(std::isfinite(c.friction) && c.friction >= 0.0))

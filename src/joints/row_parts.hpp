@@ -119,8 +119,8 @@ double implicitShare(double stiffness, double inverse_mass, double h);
 void driveRow(const JointContext& ctx, double stiffness, double damping, double target_rate,
               double max_force, Row& row);
 
-/// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction) of free
-/// coordinate `index`: after every joint's equality rows (slots below 16).
+/// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction, 5 lock)
+/// of free coordinate `index`: after every joint's equality rows (slots below 16).
 constexpr int coordinateSlot(int index, int part) {
   return 16 + 8 * index + part;
 }
@@ -139,6 +139,13 @@ int coordinateRows(const JointContext& ctx, const CoordinateDef& c, int index, d
     row.key = coordinateSlot(index, part);
     return row;
   };
+  if (c.locked) {  // C = the coordinate, zero at creation: an equality row
+    Row& row = next(5);
+    row.kind = RowKind::Bilateral;
+    row.lo = -kInfinity;
+    row.hi = kInfinity;
+    return n + 1;
+  }
   if (c.limits) {
     for (const bool lower : {true, false}) {
       Row& row = next(lower ? 0 : 1);
