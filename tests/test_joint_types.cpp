@@ -67,6 +67,12 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
         b1.pose.orientation = math::expMap(test::randomVec(rng, 0.6)) * b1.pose.orientation;
         b1.pose.position += test::randomVec(rng, 0.5);
       }
+      // A cone-twist joint allows any turn about its anchor.
+      if (type.name == "cone_twist") {
+        const Quat turn = math::expMap(test::randomVec(rng, 1.0));
+        b1.pose.position = *def.anchor + turn * (b1.pose.position - *def.anchor);
+        b1.pose.orientation = turn * b1.pose.orientation;
+      }
       std::vector<Row> rows(static_cast<std::size_t>(joint->maxRows()));
       rows.resize(static_cast<std::size_t>(joint->fill(JointContext{b1, b2, 0.01}, rows)));
 
@@ -97,8 +103,8 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       }
     }
   }
-  // slider, hinge, universal, cylindrical, hinge2, generic
-  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 6));
+  // slider, hinge, universal, cylindrical, hinge2, cone-twist, generic
+  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 1 + 6));
 }
 
 WorldSettings settings(bool gravity) {
@@ -300,6 +306,104 @@ TEST(Distance, RopeFallsSlackThenHoldsTaut) {
   EXPECT_LT(longest, 1.0 + 1e-9);
   EXPECT_NEAR(t.world.body(t.ball).position().z(), 1.0, 1e-9);
   EXPECT_LT(t.world.body(t.ball).linearVelocity().norm(), 1e-9);
+}
+
+TEST(ConeTwist, ConeRowIsTheRateOfItsConstraintAnywhere) {
+  // Body 1 turned about the anchor by up to a radian and a half: the cone row (at, near or past
+  // the elliptical cone) has J u = dC/dt by finite differences, for any velocities.
+  std::mt19937 rng(17);
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const BodyState c1 = test::randomState(rng), c2 = test::randomState(rng);
+    const Vec3 anchor = test::randomVec(rng, 1.0), axis = test::randomVec(rng, 1.0);
+    const JointDef def{.name = "c",
+                       .anchor = anchor,
+                       .axis = axis,
+                       .axis2 = axis.unitOrthogonal(),
+                       .cone = ConeLimit{0.3, 0.7}};
+    std::unique_ptr<Joint> joint = makeJoint("cone_twist", def, c1, c2);
+    const Quat turn = math::expMap(test::randomVec(rng, 1.5));
+    BodyState b1 = c1;
+    b1.pose.position = anchor + turn * (c1.pose.position - anchor);
+    b1.pose.orientation = turn * c1.pose.orientation;
+    const auto coneRow = [&](const BodyState& s1, const BodyState& s2) -> std::optional<Row> {
+      std::vector<Row> rows(static_cast<std::size_t>(joint->maxRows()));
+      rows.resize(static_cast<std::size_t>(joint->fill(JointContext{s1, s2, 1e-9}, rows)));
+      for (const Row& r : rows)
+        if (r.key == 3) return r;
+      return std::nullopt;
+    };
+    const std::optional<Row> now = coneRow(b1, c2);
+    if (!now) continue;  // well inside the cone: no row
+    constexpr double eps = 1e-6;
+    const std::optional<Row> ahead = coneRow(advance(b1, eps), advance(c2, eps));
+    const std::optional<Row> behind = coneRow(advance(b1, -eps), advance(c2, -eps));
+    ASSERT_TRUE(ahead && behind);
+    const double rate = (ahead->phi - behind->phi) / (2 * eps);
+    EXPECT_NEAR(
+        rate,
+        jacobian(*now) * (Eigen::Matrix<double, 12, 1>() << b1.v, b1.w, c2.v, c2.w).finished(),
+        1e-6)
+        << "trial " << trial;
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+// A 1 kg bar hanging 0.5 m below a cone-twist joint (twist axis down the bar), pushed sideways.
+struct Shoulder {
+  World world;
+  BodyId arm;
+  JointId joint;
+};
+
+Shoulder makeShoulder(const Vec3& push, const Vec3& spin, const CoordinateDef& twist) {
+  Shoulder s{World(settings(true)), {}, {}};
+  BodyDef d = test::boxBody("arm", 1.0, Vec3(0.04, 0.04, 0.5), Vec3(0, 0, 0.75));
+  d.linear_velocity = push;
+  d.angular_velocity = spin;
+  s.arm = s.world.createBody(d);
+  JointDef def{.name = "shoulder",
+               .body1 = s.arm,
+               .anchor = Vec3(0, 0, 1),
+               .axis = Vec3(0, 0, -1),
+               .axis2 = Vec3::UnitX(),
+               .cone = ConeLimit{0.3, 0.6}};
+  def.coordinates[0] = twist;
+  s.joint = s.world.createJoint("cone_twist", def);
+  return s;
+}
+
+TEST(ConeTwist, SwingStopsOnTheEllipseInEachDirection) {
+  // Pushed towards x (the cone's swing1, 0.3 rad) and towards y (swing2, 0.6 rad), hard enough to
+  // pass them freely: the swing stops at the bound.
+  for (const auto& [push, bound] : {std::pair{Vec3(3, 0, 0), 0.3}, std::pair{Vec3(0, 3, 0), 0.6}}) {
+    Shoulder s = makeShoulder(push, Vec3::Zero(), {});
+    double widest = 0.0;
+    for (int n = 0; n < 1000; ++n) {
+      s.world.step();
+      widest = std::max(widest, s.world.jointCoordinates(s.joint)[1]);
+    }
+    std::printf("swing stopped at %.9f rad (bound %.1f), joint error %.2e\n", widest, bound,
+                s.world.maxJointError());
+    EXPECT_NEAR(widest, bound, 1e-6);
+  }
+}
+
+TEST(ConeTwist, TwistHasItsOwnLimitsAndMotor) {
+  Shoulder limited = makeShoulder(Vec3::Zero(), Vec3(0, 0, -4.0),  // spinning about the bar
+                                  CoordinateDef{.limits = JointLimits{-0.5, 0.5}});
+  double widest = 0.0;
+  for (int n = 0; n < 1000; ++n) {
+    limited.world.step();
+    widest = std::max(widest, limited.world.jointCoordinates(limited.joint)[0]);
+  }
+  EXPECT_NEAR(widest, 0.5, 1e-6);  // spinning positively about the twist axis (0, 0, -1)
+  Shoulder driven = makeShoulder(Vec3::Zero(), Vec3::Zero(),
+                                 CoordinateDef{.motor = JointMotor{.target_velocity = 1.5}});
+  for (int n = 0; n < 1000; ++n) driven.world.step();
+  EXPECT_NEAR(driven.world.jointCoordinates(driven.joint)[0], 1.5, 1e-9);
+  EXPECT_LT(driven.world.jointCoordinates(driven.joint)[1], 1e-9);  // no swing
 }
 
 // Locks for a generic joint's coordinates, by index (x, y, z, rx, ry, rz).

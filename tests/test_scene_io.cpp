@@ -681,7 +681,7 @@ TEST(SceneError, Joints) {
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
        "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
-       "hinge2, distance or generic)"},
+       "hinge2, distance, cone_twist or generic)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
@@ -799,6 +799,16 @@ TEST(SceneError, Joints) {
       {joint(R"({"name": "f", "type": "fixed", "body1": "a", "spring": {"stiffness": 1}})"),
        "joints[0].spring", "not used by a fixed joint"},
       {[](json& s) { s["joints"][0]["friction"] = -1; }, "joints[0].friction", "must be >= 0"},
+      {joint(R"({"name": "c", "type": "cone_twist", "body1": "a", "anchor": [0, 0, 0],
+                 "axis1": [0, 0, 1], "axis2": [1, 0, 0], "cone": {"swing1": 4, "swing2": 1}})"),
+       "joints[0].cone.swing1", "must be in (0, pi) rad, got 4"},
+      {joint(R"({"name": "c", "type": "cone_twist", "body1": "a", "anchor": [0, 0, 0],
+                 "axis1": [0, 0, 1], "axis2": [1, 0, 0], "cone": {"swing1": 1}})"),
+       "joints[0].cone.swing2", "missing required field"},
+      {[](json& s) {
+         s["joints"][0]["cone"] = {{"swing1", 1}, {"swing2", 1}};
+       },
+       "joints[0].cone", "not used by a hinge joint"},
       {joint(R"({"name": "g", "type": "generic", "body1": "a", "anchor": [0, 0, 0],
                  "axis1": [1, 0, 0], "axis2": [0, 1, 0], "rz": {"locked": true, "friction": 1}})"),
        "joints[0].rz.friction", "a locked coordinate takes nothing else"},
@@ -861,6 +871,18 @@ TEST(SceneRead, GenericJointLocksAndFreesEachAxis) {
   EXPECT_EQ(d.coordinates[1].limits->upper, 1.0);
   EXPECT_TRUE(d.coordinates[2].empty());  // free: nothing acts on it
   EXPECT_TRUE(d.coordinates[5].empty());
+}
+
+TEST(SceneRead, ConeTwistJoint) {
+  json scene = baseScene();
+  scene["joints"][0] = json::parse(R"({"name": "c", "type": "cone_twist", "body1": "a",
+      "anchor": [0, 0, 0], "axis1": [0, 0, -1], "axis2": [1, 0, 0],
+      "cone": {"swing1": 0.5, "swing2": 0.25}, "limits": {"lower": -1, "upper": 1}})");
+  const linx::JointDef d = parse(scene).joints.at(0).def;
+  ASSERT_TRUE(d.cone);
+  EXPECT_EQ(d.cone->swing1, 0.5);
+  EXPECT_EQ(d.cone->swing2, 0.25);
+  EXPECT_EQ(d.coordinates[0].limits->lower, -1.0);  // the twist's (its one free coordinate)
 }
 
 TEST(SceneRead, DistanceJoint) {

@@ -25,6 +25,13 @@ struct JointLimits {
   double upper = kInfinity;
 };
 
+/// The swing cone of a cone-twist joint: how far body 1's twist axis may tilt from body 2's, as the
+/// half-angles (rad, in (0, pi)) of an elliptical cone: towards `axis2` and towards axis x axis2.
+struct ConeLimit {
+  double swing1 = 0.0;
+  double swing2 = 0.0;
+};
+
 /// A value in time: a constant, or a table of points (times strictly increasing) interpolated
 /// linearly between them and held at the first and last values outside them.
 struct Signal {
@@ -100,6 +107,8 @@ struct JointDef {
   Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame
   /// Universal joint: `axis` turns with body 1 and `axis2` with body 2, perpendicular at creation.
   Vec3 axis2 = Vec3::UnitY();
+  /// Cone-twist joint: the cone its twist axis swings in (none: it swings freely).
+  std::optional<ConeLimit> cone = std::nullopt;
   /// Distance joint: the point on body 2 (m), world frame at creation; default: body 2's centre
   /// of mass (`anchor` is the point on body 1).
   std::optional<Vec3> anchor2 = std::nullopt;
@@ -226,6 +235,7 @@ struct JointTypeInfo {
   bool uses_axis2 = false;    ///< JointDef::axis2 as well ("axis1" and "axis2" in a scene)
   /// JointDef::anchor2, length and rope ("anchor1" and "anchor2" in a scene): a distance joint.
   bool uses_anchor2 = false;
+  bool uses_cone = false;  ///< JointDef::cone
   /// The coordinates Joint::coordinates reports, in order.
   std::span<const CoordinateInfo> coordinates = {};
   /// How many of them are free (take limits, drives, springs, friction): the first ones.

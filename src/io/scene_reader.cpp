@@ -750,9 +750,9 @@ class Reader {
     // A joint with one free coordinate takes its limits, motor, spring and friction as its own
     // fields; one with several, in an object per coordinate named as the type names it.
     const int free = fields->freeCoordinates();
-    std::vector<std::string_view> allowed{"name",    "type",    "body1",   "body2",  "anchor",
-                                          "axis",    "axis1",   "axis2",   "erp",    "cfm",
-                                          "collide", "anchor1", "anchor2", "length", "rope"};
+    std::vector<std::string_view> allowed{
+        "name", "type", "body1",   "body2",   "anchor",  "axis",   "axis1", "axis2",
+        "erp",  "cfm",  "collide", "anchor1", "anchor2", "length", "rope",  "cone"};
     allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
@@ -817,6 +817,12 @@ class Reader {
       unused("axis2");
     }
 
+    if (!fields->uses_cone) {
+      unused("cone");
+    } else if (auto v = get(n, "cone")) {
+      allowOnly(*v, {"swing1", "swing2"});
+      d.cone = ConeLimit{angleBelowPi(require(*v, "swing1")), angleBelowPi(require(*v, "swing2"))};
+    }
     if (free == 1) {
       d.coordinates[0] = coordinate(n);
     } else if (free > 1) {
@@ -839,6 +845,13 @@ class Reader {
     if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
     if (auto v = get(n, "collide")) d.collide = boolean(*v);
     return joint;
+  }
+
+  // An angle in (0, pi) rad.
+  double angleBelowPi(const Node& n) const {
+    const double a = number(n);
+    if (!(a > 0.0 && a < M_PI)) fail(n.path, fmt::format("must be in (0, pi) rad, got {}", a));
+    return a;
   }
 
   // A distance joint's two points (default: the bodies' positions), length and kind.

@@ -1,5 +1,6 @@
 // The joint types known by name. Adding a type: its own file, and one line in kInfo and kMake.
 #include "joints/ball_joint.hpp"
+#include "joints/cone_twist_joint.hpp"
 #include "joints/cylindrical_joint.hpp"
 #include "joints/distance_joint.hpp"
 #include "joints/fixed_joint.hpp"
@@ -34,10 +35,11 @@ constexpr CoordinateInfo kPositionAngle[] = {{"position", true}, {"angle", false
 constexpr CoordinateInfo kWheel[] = {{"wheel", false}, {"steering", false}, {"suspension", true}};
 constexpr CoordinateInfo kSixAxes[] = {{"x", true},   {"y", true},   {"z", true},
                                        {"rx", false}, {"ry", false}, {"rz", false}};
+constexpr CoordinateInfo kTwistSwing[] = {{"twist", false}, {"swing", false, false}};
 constexpr CoordinateInfo kLength[] = {{"length", true, false}};     // reported, not driven
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
-constexpr std::array<JointTypeInfo, 9> kInfo{{
+constexpr std::array<JointTypeInfo, 10> kInfo{{
     {.name = "fixed"},
     {.name = "slider", .uses_axis = true, .coordinates = kPosition},
     {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
@@ -54,6 +56,12 @@ constexpr std::array<JointTypeInfo, 9> kInfo{{
      .uses_axis2 = true,
      .coordinates = kWheel},
     {.name = "distance", .uses_anchor2 = true, .coordinates = kLength},
+    {.name = "cone_twist",
+     .needs_anchor = true,
+     .uses_axis = true,
+     .uses_axis2 = true,
+     .uses_cone = true,
+     .coordinates = kTwistSwing},
     {.name = "generic",
      .needs_anchor = true,
      .uses_axis = true,
@@ -63,7 +71,8 @@ constexpr std::array<JointTypeInfo, 9> kInfo{{
 constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
     &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
-    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::GenericJoint>};
+    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::ConeTwistJoint>,
+    &make<joints::GenericJoint>};
 
 }  // namespace
 
@@ -80,6 +89,13 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
       throw std::invalid_argument("anchor2: not a finite vector");
     if (def.length && !(std::isfinite(*def.length) && *def.length > 0.0))
       throw std::invalid_argument("length: must be finite and > 0");
+  }
+  if (def.cone) {
+    if (!t.uses_cone)
+      throw std::invalid_argument(fmt::format("cone: not used by a {} joint", t.name));
+    for (const double s : {def.cone->swing1, def.cone->swing2})
+      if (!(s > 0.0 && s < M_PI))
+        throw std::invalid_argument("cone: swing1 and swing2 must be in (0, pi) rad");
   }
   if (def.erp && !(*def.erp >= 0.0 && *def.erp <= 1.0))
     throw std::invalid_argument("erp: must be in [0, 1]");

@@ -177,6 +177,11 @@ void motorRow(const JointContext& ctx, double target, double max_force, Row& row
   row.hi = ctx.h * max_force;
 }
 
+void frictionRow(const JointContext& ctx, double friction, Row& row) {
+  motorRow(ctx, 0.0, friction, row);
+  row.cfm = kFrictionSoftness * inverseMassAlong(row, ctx.m1, ctx.m2);
+}
+
 double inverseMassAlong(const Row& row, const BodyInertia& m1, const BodyInertia& m2) {
   const auto part = [](const Vec6& j, const BodyInertia& m) {
     return m.inv_mass * j.head<3>().squaredNorm() + j.tail<3>().dot(m.inv_inertia * j.tail<3>());

@@ -100,6 +100,13 @@ inline constexpr double kAngularLimitMargin = 2e-2;  ///< (rad)
 /// Turns a coordinate row into a velocity motor row: J u = target, |lambda| <= h max_force.
 void motorRow(const JointContext& ctx, double target, double max_force, Row& row);
 
+/// Turns a coordinate row into a joint friction row: J u = 0, |lambda| <= h friction, softened by a
+/// constraint force mixing of kFrictionSoftness of the row's own inverse mass. The row shares its
+/// J with the coordinate's limit rows: at a limit both would hold the same rate, a singular pair
+/// for the direct solvers; the softness makes the pair definite while the rate it lets through,
+/// kFrictionSoftness of the change the friction impulse itself makes, is negligible.
+void frictionRow(const JointContext& ctx, double friction, Row& row);
+inline constexpr double kFrictionSoftness = 1e-6;
 /// J M^-1 J^T of one row: the inverse of the mass that the row's direction alone moves.
 double inverseMassAlong(const Row& row, const BodyInertia& m1, const BodyInertia& m2);
 /// The smallest implicit share of a spring (see implicitShare).
@@ -174,7 +181,7 @@ int coordinateRows(const JointContext& ctx, const CoordinateDef& c, int index, d
     ++n;
   }
   if (c.friction > 0.0) {
-    motorRow(ctx, 0.0, c.friction, next(4));  // holds the rate at zero with at most the friction
+    frictionRow(ctx, c.friction, next(4));
     ++n;
   }
   return n;

@@ -56,7 +56,10 @@ SolverReport SubstepJoints::solve(std::span<solver::SoftSolver::Body> bodies, bo
     if (r.kind == RowKind::Drive) {
       r.speed -= r.cfm * lambda_[k];
       if (!bias) r.lo = r.hi = 0.0;
-    } else if (!bias) {
+    } else if (!bias && !(r.kind == RowKind::Unilateral && r.phi > 0.0)) {
+      // The relax pass removes the bias, not a gap: a limit not yet reached (speculative) still
+      // lets the coordinate close it, as a contact's gap does (without this, a hinge stopped
+      // short of its limit by up to the limit's margin and crept onto it).
       r.erp = 0.0;
     }
   }
