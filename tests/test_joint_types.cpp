@@ -103,8 +103,8 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       }
     }
   }
-  // slider, hinge, universal, cylindrical, hinge2, cone-twist, generic
-  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 1 + 6));
+  // slider, hinge, universal, cylindrical, hinge2, cone-twist, planar, generic
+  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 1 + 3 + 6));
 }
 
 WorldSettings settings(bool gravity) {
@@ -489,6 +489,36 @@ TEST(Generic, LimitOnATranslationStopsIt) {
   for (int n = 0; n < 2000; ++n) world.step();
   // Down the x axis (1, 0, 1) / sqrt 2 gravity pulls towards negative x, onto the lower limit.
   EXPECT_NEAR(world.jointCoordinates(j)[0], -0.25, 1e-9);
+  EXPECT_LT(world.maxJointError(), 1e-9);
+}
+
+TEST(Planar, PuckSlidesDownItsTiltedPlaneAtGSinAlpha) {
+  // The plane's y rises at alpha = 0.3 rad: y'' = -g sin(alpha), x and the angle stay at zero.
+  World world(settings(true));
+  const double alpha = 0.3;
+  BodyDef d = test::boxBody("puck", 1.0, Vec3(0.2, 0.2, 0.05), Vec3(0, 0, 1));
+  // Lying on the plane (its thin side along the normal, a principal axis: a spin about it stays),
+  // spinning on it.
+  d.orientation = Quat(Eigen::AngleAxisd(alpha, Vec3::UnitX()));
+  d.angular_velocity = Vec3(0, -std::sin(alpha), std::cos(alpha)) * 0.7;
+  const BodyId puck = world.createBody(d);
+  const JointId j =
+      world.createJoint("planar", JointDef{.name = "table",
+                                           .body1 = puck,
+                                           .anchor = d.position,
+                                           .axis = Vec3::UnitX(),
+                                           .axis2 = Vec3(0, std::cos(alpha), std::sin(alpha))});
+  const double h = world.settings().timestep, a = -kG * std::sin(alpha);
+  double worst = 0.0;
+  for (int n = 1; n <= 1000; ++n) {
+    world.step();
+    const JointCoordinates q = world.jointCoordinates(j);
+    const Vec3 exact(0.0, 0.5 * h * h * a * n * (n + 1.0), 0.7 * world.time());
+    worst = std::max(worst, (q - exact).cwiseAbs().maxCoeff());
+  }
+  std::printf("x, y, angle within %.2e of 0, -g sin(a) t^2 / 2, w t; joint error %.2e\n", worst,
+              world.maxJointError());
+  EXPECT_LT(worst, 1e-9);
   EXPECT_LT(world.maxJointError(), 1e-9);
 }
 

@@ -7,6 +7,7 @@
 #include "joints/generic_joint.hpp"
 #include "joints/hinge2_joint.hpp"
 #include "joints/hinge_joint.hpp"
+#include "joints/planar_joint.hpp"
 #include "joints/slider_joint.hpp"
 #include "joints/universal_joint.hpp"
 #include "joints/validation.hpp"
@@ -36,10 +37,11 @@ constexpr CoordinateInfo kWheel[] = {{"wheel", false}, {"steering", false}, {"su
 constexpr CoordinateInfo kSixAxes[] = {{"x", true},   {"y", true},   {"z", true},
                                        {"rx", false}, {"ry", false}, {"rz", false}};
 constexpr CoordinateInfo kTwistSwing[] = {{"twist", false}, {"swing", false, false}};
+constexpr CoordinateInfo kPlane[] = {{"x", true}, {"y", true}, {"angle", false}};
 constexpr CoordinateInfo kLength[] = {{"length", true, false}};     // reported, not driven
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
-constexpr std::array<JointTypeInfo, 10> kInfo{{
+constexpr std::array<JointTypeInfo, 11> kInfo{{
     {.name = "fixed"},
     {.name = "slider", .uses_axis = true, .coordinates = kPosition},
     {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
@@ -62,6 +64,11 @@ constexpr std::array<JointTypeInfo, 10> kInfo{{
      .uses_axis2 = true,
      .uses_cone = true,
      .coordinates = kTwistSwing},
+    {.name = "planar",
+     .needs_anchor = true,
+     .uses_axis = true,
+     .uses_axis2 = true,
+     .coordinates = kPlane},
     {.name = "generic",
      .needs_anchor = true,
      .uses_axis = true,
@@ -72,7 +79,7 @@ constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
     &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
     &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::ConeTwistJoint>,
-    &make<joints::GenericJoint>};
+    &make<joints::PlanarJoint>, &make<joints::GenericJoint>};
 
 }  // namespace
 
