@@ -522,6 +522,72 @@ TEST(Planar, PuckSlidesDownItsTiltedPlaneAtGSinAlpha) {
   EXPECT_LT(world.maxJointError(), 1e-9);
 }
 
+TEST(Gear, RowIsTheRateOfItsConstraintAnywhere) {
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 100; ++trial) {
+    const BodyState c1 = test::randomState(rng), c2 = test::randomState(rng);
+    const JointDef def{.name = "g",
+                       .axis = test::randomVec(rng, 1.0),
+                       .axis2 = test::randomVec(rng, 1.0),
+                       .ratio = -1.7};
+    std::unique_ptr<Joint> joint = makeJoint("gear", def, c1, c2);
+    BodyState b1 = c1, b2 = c2;  // turned by up to 1.5 rad each
+    b1.pose.orientation = math::expMap(test::randomVec(rng, 0.85)) * c1.pose.orientation;
+    b2.pose.orientation = math::expMap(test::randomVec(rng, 0.85)) * c2.pose.orientation;
+    const auto row = [&](const BodyState& s1, const BodyState& s2) {
+      std::vector<Row> rows(1);
+      joint->fill(JointContext{s1, s2, 0.01}, rows);
+      return rows[0];
+    };
+    constexpr double eps = 1e-6;
+    const double rate = (row(advance(b1, eps), advance(b2, eps)).phi -
+                         row(advance(b1, -eps), advance(b2, -eps)).phi) /
+                        (2 * eps);
+    ASSERT_NEAR(rate, jacobian(row(b1, b2)) * velocities(b1, b2), 1e-7) << "trial " << trial;
+  }
+}
+
+TEST(Gear, MeshingWheelsShareTheirMomentumByTheRatio) {
+  // Two wheels on parallel vertical axles, the second at twice the first's rate the other way.
+  // Wheel 1 spun at w0, wheel 2 at rest: the first step meshes them, keeping
+  // I1 w1 + r I2 w2 (the gear's impulse acts as r on wheel 1 for each -1 on wheel 2), so
+  // w1 = I1 w0 / (I1 + r^2 I2), w2 = r w1; then both turn steadily.
+  World world(settings(false));
+  const double r = -2.0, w0 = 3.0;
+  BodyDef d1 = test::boxBody("big", 4.0, Vec3(0.4, 0.4, 0.05), Vec3::Zero());
+  d1.angular_velocity = Vec3(0, 0, w0);
+  const BodyId big = world.createBody(d1);
+  const BodyId small =
+      world.createBody(test::boxBody("small", 1.0, Vec3(0.2, 0.2, 0.05), Vec3(0.3, 0, 0)));
+  for (const auto& [body, x] : {std::pair{big, 0.0}, std::pair{small, 0.3}})
+    world.createJoint("hinge", JointDef{.name = x == 0.0 ? "axle1" : "axle2",
+                                        .body1 = body,
+                                        .anchor = Vec3(x, 0, 0),
+                                        .axis = Vec3::UnitZ()});
+  const JointId gear = world.createJoint("gear", JointDef{.name = "mesh",
+                                                          .body1 = big,
+                                                          .body2 = small,
+                                                          .axis = Vec3::UnitZ(),
+                                                          .axis2 = Vec3::UnitZ(),
+                                                          .ratio = r});
+  const double i1 = world.body(big).inertiaWorld()(2, 2),
+               i2 = world.body(small).inertiaWorld()(2, 2);
+  const double w1 = i1 * w0 / (i1 + r * r * i2);
+  double worst = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    world.step();
+    worst = std::max({worst, std::abs(world.body(big).angularVelocity().z() - w1),
+                      std::abs(world.body(small).angularVelocity().z() - r * w1)});
+  }
+  const JointCoordinates q = world.jointCoordinates(gear);
+  std::printf("rates within %.2e of %.6f and %.6f rad/s; turned %.6f and %.6f rad\n", worst, w1,
+              r * w1, q[0], q[1]);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_NEAR(q[0], w1 * world.time(), 1e-9);
+  EXPECT_NEAR(q[1], r * q[0], 1e-9);
+  EXPECT_GT(std::abs(q[1]), 2.0 * M_PI);  // past a turn: counted
+}
+
 TEST(Locked, ALockedHingeAngleHoldsLikeAWeld) {
   World world(settings(true));
   const BodyId arm =

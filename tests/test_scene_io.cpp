@@ -681,7 +681,7 @@ TEST(SceneError, Joints) {
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
        "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
-       "hinge2, distance, cone_twist, planar or generic)"},
+       "hinge2, distance, cone_twist, planar, gear or generic)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
@@ -883,6 +883,19 @@ TEST(SceneRead, ConeTwistJoint) {
   EXPECT_EQ(d.cone->swing1, 0.5);
   EXPECT_EQ(d.cone->swing2, 0.25);
   EXPECT_EQ(d.coordinates[0].limits->lower, -1.0);  // the twist's (its one free coordinate)
+}
+
+TEST(SceneRead, GearJoint) {
+  json scene = baseScene();
+  scene["joints"][0] = json::parse(R"({"name": "g", "type": "gear", "body1": "a", "body2": "b",
+      "axis1": [0, 0, 1], "axis2": [1, 0, 0], "ratio": -0.5})");
+  const linx::JointDef d = parse(scene).joints.at(0).def;
+  EXPECT_EQ(d.ratio, -0.5);
+  EXPECT_EQ(d.axis2, linx::Vec3(1, 0, 0));  // bevel gears: the axles need not be perpendicular
+  scene["joints"][0]["ratio"] = 0;
+  EXPECT_EQ(errorOf(scene.dump()).field(), "joints[0].ratio");
+  scene["joints"][0].erase("ratio");
+  EXPECT_EQ(errorOf(scene.dump()).field(), "joints[0].ratio");
 }
 
 TEST(SceneRead, DistanceJoint) {

@@ -107,6 +107,9 @@ struct JointDef {
   Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame
   /// Universal joint: `axis` turns with body 1 and `axis2` with body 2, perpendicular at creation.
   Vec3 axis2 = Vec3::UnitY();
+  /// Gear joint: body 2 turns about `axis2` at `ratio` times body 1's rate about `axis` (its sign
+  /// gives the sense: -2 for a meshing wheel of half the teeth on a parallel axle).
+  double ratio = 1.0;
   /// Cone-twist joint: the cone its twist axis swings in (none: it swings freely).
   std::optional<ConeLimit> cone = std::nullopt;
   /// Distance joint: the point on body 2 (m), world frame at creation; default: body 2's centre
@@ -236,6 +239,8 @@ struct JointTypeInfo {
   /// JointDef::anchor2, length and rope ("anchor1" and "anchor2" in a scene): a distance joint.
   bool uses_anchor2 = false;
   bool uses_cone = false;  ///< JointDef::cone
+  /// JointDef::ratio; `axis` and `axis2` need not be perpendicular (a gear joint).
+  bool uses_ratio = false;
   /// The coordinates Joint::coordinates reports, in order.
   std::span<const CoordinateInfo> coordinates = {};
   /// How many of them are free (take limits, drives, springs, friction): the first ones.

@@ -751,8 +751,8 @@ class Reader {
     // fields; one with several, in an object per coordinate named as the type names it.
     const int free = fields->freeCoordinates();
     std::vector<std::string_view> allowed{
-        "name", "type", "body1",   "body2",   "anchor",  "axis",   "axis1", "axis2",
-        "erp",  "cfm",  "collide", "anchor1", "anchor2", "length", "rope",  "cone"};
+        "name", "type",    "body1",   "body2",   "anchor", "axis", "axis1", "axis2", "erp",
+        "cfm",  "collide", "anchor1", "anchor2", "length", "rope", "cone",  "ratio"};
     allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
@@ -803,7 +803,7 @@ class Reader {
       const Node axis2 = require(n, "axis2");
       d.axis2 = direction(axis2);
       const double cosine = d.axis.normalized().dot(d.axis2.normalized());
-      if (std::abs(cosine) > 1e-6)
+      if (!fields->uses_ratio && std::abs(cosine) > 1e-6)
         fail(axis2.path, fmt::format("must be perpendicular to axis1 (they are {:.6g} deg apart)",
                                      std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI));
       unused("axis");
@@ -817,6 +817,13 @@ class Reader {
       unused("axis2");
     }
 
+    if (!fields->uses_ratio) {
+      unused("ratio");
+    } else {
+      const Node ratio = require(n, "ratio");
+      d.ratio = number(ratio);
+      if (d.ratio == 0.0) fail(ratio.path, "must not be zero");
+    }
     if (!fields->uses_cone) {
       unused("cone");
     } else if (auto v = get(n, "cone")) {

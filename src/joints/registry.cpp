@@ -4,6 +4,7 @@
 #include "joints/cylindrical_joint.hpp"
 #include "joints/distance_joint.hpp"
 #include "joints/fixed_joint.hpp"
+#include "joints/gear_joint.hpp"
 #include "joints/generic_joint.hpp"
 #include "joints/hinge2_joint.hpp"
 #include "joints/hinge_joint.hpp"
@@ -38,10 +39,11 @@ constexpr CoordinateInfo kSixAxes[] = {{"x", true},   {"y", true},   {"z", true}
                                        {"rx", false}, {"ry", false}, {"rz", false}};
 constexpr CoordinateInfo kTwistSwing[] = {{"twist", false}, {"swing", false, false}};
 constexpr CoordinateInfo kPlane[] = {{"x", true}, {"y", true}, {"angle", false}};
+constexpr CoordinateInfo kGearAngles[] = {{"angle1", false, false}, {"angle2", false, false}};
 constexpr CoordinateInfo kLength[] = {{"length", true, false}};     // reported, not driven
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
-constexpr std::array<JointTypeInfo, 11> kInfo{{
+constexpr std::array<JointTypeInfo, 12> kInfo{{
     {.name = "fixed"},
     {.name = "slider", .uses_axis = true, .coordinates = kPosition},
     {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
@@ -69,6 +71,11 @@ constexpr std::array<JointTypeInfo, 11> kInfo{{
      .uses_axis = true,
      .uses_axis2 = true,
      .coordinates = kPlane},
+    {.name = "gear",
+     .uses_axis = true,
+     .uses_axis2 = true,
+     .uses_ratio = true,
+     .coordinates = kGearAngles},
     {.name = "generic",
      .needs_anchor = true,
      .uses_axis = true,
@@ -79,7 +86,7 @@ constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
     &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
     &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::ConeTwistJoint>,
-    &make<joints::PlanarJoint>, &make<joints::GenericJoint>};
+    &make<joints::PlanarJoint>, &make<joints::GearJoint>,      &make<joints::GenericJoint>};
 
 }  // namespace
 
@@ -97,6 +104,8 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     if (def.length && !(std::isfinite(*def.length) && *def.length > 0.0))
       throw std::invalid_argument("length: must be finite and > 0");
   }
+  if (t.uses_ratio && !(std::isfinite(def.ratio) && def.ratio != 0.0))
+    throw std::invalid_argument("ratio: must be finite and non-zero");
   if (def.cone) {
     if (!t.uses_cone)
       throw std::invalid_argument(fmt::format("cone: not used by a {} joint", t.name));
