@@ -14,8 +14,6 @@
 // Coordinates: twist (free), swing theta (reported).
 #include "joints/cone_twist_joint.hpp"
 
-#include "math/rotation.hpp"
-
 #include <cmath>
 #include <stdexcept>
 
@@ -32,7 +30,7 @@ ConeTwistJoint::ConeTwistJoint(const JointDef& def, const BodyState& b1, const B
 }
 
 double ConeTwistJoint::twist(const BodyState& b1, const BodyState& b2) const {
-  return unwrap(math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2), last_twist_);
+  return axisAngle(frames_, b1, b2, last_twist_);
 }
 
 JointCoordinates ConeTwistJoint::coordinates(const BodyState& b1, const BodyState& b2) const {

@@ -9,15 +9,13 @@
 //   ] limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/cylindrical_joint.hpp"
 
-#include "math/rotation.hpp"
-
 namespace linx::joints {
 
 CylindricalJoint::CylindricalJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
 
 double CylindricalJoint::angle(const BodyState& b1, const BodyState& b2) const {
-  return unwrap(math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2), last_angle_);
+  return axisAngle(frames_, b1, b2, last_angle_);
 }
 
 JointCoordinates CylindricalJoint::coordinates(const BodyState& b1, const BodyState& b2) const {

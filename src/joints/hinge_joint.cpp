@@ -8,8 +8,6 @@
 //   limits, motor, spring, friction on theta: joints/row_parts.hpp, coordinateRows
 #include "joints/hinge_joint.hpp"
 
-#include "math/rotation.hpp"
-
 #include <cmath>
 
 namespace linx::joints {
@@ -18,7 +16,7 @@ HingeJoint::HingeJoint(const JointDef& def, const BodyState& b1, const BodyState
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {}
 
 double HingeJoint::angle(const BodyState& b1, const BodyState& b2) const {
-  return unwrap(math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2), last_angle_);
+  return axisAngle(frames_, b1, b2, last_angle_);
 }
 
 JointCoordinates HingeJoint::coordinates(const BodyState& b1, const BodyState& b2) const {

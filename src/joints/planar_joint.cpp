@@ -9,8 +9,6 @@
 //   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/planar_joint.hpp"
 
-#include "math/rotation.hpp"
-
 #include <cmath>
 #include <stdexcept>
 
@@ -33,7 +31,7 @@ PlanarJoint::PlanarJoint(const JointDef& def, const BodyState& b1, const BodySta
 }
 
 double PlanarJoint::angle(const BodyState& b1, const BodyState& b2) const {
-  return unwrap(math::twistAngle(relativeRotation(frames_, b1, b2), frames_.axis2), last_angle_);
+  return axisAngle(frames_, b1, b2, last_angle_);
 }
 
 JointCoordinates PlanarJoint::coordinates(const BodyState& b1, const BodyState& b2) const {

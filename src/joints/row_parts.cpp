@@ -78,6 +78,10 @@ Quat relativeRotation(const JointFrames& f, const BodyState& b1, const BodyState
   return (b2.pose.orientation.conjugate() * b1.pose.orientation * f.rest.conjugate()).normalized();
 }
 
+double axisAngle(const JointFrames& f, const BodyState& b1, const BodyState& b2, double last) {
+  return unwrap(math::twistAngle(relativeRotation(f, b1, b2), f.axis2), last);
+}
+
 void pointRows(const Arms& arms, std::span<Row, 3> rows) {
   for (int k = 0; k < 3; ++k) {
     const Vec3 e = Vec3::Unit(k);

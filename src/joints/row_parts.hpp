@@ -75,6 +75,9 @@ struct Arms {
 
 /// Relative rotation of body 1 with respect to body 2 since creation, in body 2's frame.
 Quat relativeRotation(const JointFrames& f, const BodyState& b1, const BodyState& b2);
+/// The angle body 1 has turned relative to body 2 about the frames' axis since creation: the twist
+/// of relativeRotation about it (right-hand rule), on the branch nearest `last` (counting turns).
+double axisAngle(const JointFrames& f, const BodyState& b1, const BodyState& b2, double last);
 
 void pointRows(const Arms& arms, std::span<Row, 3> rows);
 void lockRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
