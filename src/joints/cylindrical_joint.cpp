@@ -1,12 +1,14 @@
 // Cylindrical (piston) joint: body 1 slides along the axis a (fixed in body 2) and turns about it.
 // 4 rows, plus the rows of what acts on the two coordinates.
-//   align:    C_j = t_j . (a2 x a1) = 0, t_1, t_2 _|_ a2 fixed in body 2   J_j = [ 0, t_j | 0, -t_j
-//   ] linear:   C_j = t_j . d = 0, d = (p1 + r1) - (p2 + r2)
+//   align:    C_j = t_j . (a2 x a1) = 0, t_1, t_2 _|_ a2, fixed in body 2
+//             J_j = [ 0, t_j | 0, -t_j ]
+//   linear:   C_j = t_j . d = 0, d = (p1 + r1) - (p2 + r2)
 //             J_j = [ t_j, r1 x t_j | -t_j, -(r2 + d) x t_j ]
 // Coordinates (zero at creation):
 //   position: s = a . d (m), J = [ a, r1 x a | -a, -(r2 + d) x a ]
-//   angle:    twist of body 1 relative to body 2 about a (rad, counting turns), J = [ 0, a | 0, -a
-//   ] limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
+//   angle:    twist of body 1 relative to body 2 about a (rad, counting turns)
+//             J = [ 0, a | 0, -a ]
+//   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/cylindrical_joint.hpp"
 
 namespace linx::joints {

@@ -2,8 +2,8 @@
 // coordinates of body 1's frame relative to body 2's, each free (the default), locked, limited,
 // driven, sprung or braked (CoordinateDef). Rows only for what acts on a coordinate.
 // Translations, along the axes e_k fixed in body 2 (exact, as the slider's rows):
-//   x, y, z:    C = e_k . d, d = (p1 + r1) - (p2 + r2)   J = [ e_k, r1 x e_k | -e_k, -(r2 + d) x
-//   e_k ]
+//   x, y, z:    C = e_k . d, d = (p1 + r1) - (p2 + r2)
+//               J = [ e_k, r1 x e_k | -e_k, -(r2 + d) x e_k ]
 // Rotations: M = F2^T F1 (F_i the axes in the world, M = I at creation) = Rx(rx) Ry(ry) Rz(rz),
 // intrinsic x-y-z (Cardan) angles. With W = F2^T (w1 - w2), M' M^T = [W]x and
 //   W = G (rx', ry', rz')^T,  G = [ e_x, Rx(rx) e_y, Rx(rx) Ry(ry) e_z ]
