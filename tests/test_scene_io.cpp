@@ -812,6 +812,13 @@ TEST(SceneError, Joints) {
       {joint(R"({"name": "g", "type": "generic", "body1": "a", "anchor": [0, 0, 0],
                  "axis1": [1, 0, 0], "axis2": [0, 1, 0], "rz": {"locked": true, "friction": 1}})"),
        "joints[0].rz.friction", "a locked coordinate takes nothing else"},
+      {[](json& s) {
+         s["joints"][0]["prescribed"] = {{"times", {0, 1}}, {"values", {0, 1}}};
+         s["joints"][0]["friction"] = 1;
+       },
+       "joints[0].friction", "a prescribed coordinate takes nothing else"},
+      {[](json& s) { s["joints"][0]["prescribed"] = "fast"; }, "joints[0].prescribed",
+       "expected a number or a table"},
       {joint(R"({"name": "d", "type": "distance", "body1": "a"})"), "joints[0].anchor2",
        "missing required field (the point held in the world)"},
       {joint(R"({"name": "d", "type": "distance", "body1": "a", "anchor2": [1, 0, 0]})"),
@@ -871,6 +878,17 @@ TEST(SceneRead, GenericJointLocksAndFreesEachAxis) {
   EXPECT_EQ(d.coordinates[1].limits->upper, 1.0);
   EXPECT_TRUE(d.coordinates[2].empty());  // free: nothing acts on it
   EXPECT_TRUE(d.coordinates[5].empty());
+}
+
+TEST(SceneRead, PrescribedCoordinate) {
+  json scene = baseScene();
+  scene["joints"][0] = json::parse(R"({"name": "u", "type": "universal", "body1": "a",
+      "anchor": [0, 0, 0], "axis1": [1, 0, 0], "axis2": [0, 1, 0],
+      "angle2": {"prescribed": {"times": [0, 2], "values": [0, 1]}}})");
+  const linx::JointDef d = parse(scene).joints.at(0).def;
+  EXPECT_TRUE(d.coordinates[0].empty());
+  ASSERT_TRUE(d.coordinates[1].prescribed);
+  EXPECT_EQ(d.coordinates[1].prescribed->at(1.0), 0.5);
 }
 
 TEST(SceneRead, ConeTwistJoint) {

@@ -89,8 +89,14 @@ struct CoordinateDef {
   /// Held at its value at creation (an equality row): a generic joint's locked axis. A locked
   /// coordinate takes nothing else.
   bool locked = false;
+  /// Prescribed motion: the coordinate follows this signal (m or rad, from its zero at creation)
+  /// exactly, by whatever force it takes (an equality row: each step ends on the signal's value).
+  /// A prescribed coordinate takes nothing else; with a table, it starts on the first value.
+  std::optional<Signal> prescribed = std::nullopt;
 
-  bool empty() const { return !limits && !motor && !spring && friction == 0.0 && !locked; }
+  bool empty() const {
+    return !limits && !motor && !spring && friction == 0.0 && !locked && !prescribed;
+  }
 };
 
 /// The most free coordinates a joint type has (a generic joint's six).

@@ -153,7 +153,7 @@ class World {
   /// What the joint applied to its body1 over the last step (world frame): the force and the
   /// torque about the joint's anchor (where it sits on body1). body2 received the opposite of
   /// both, about the same point. Limits, motors, servos and springs included; zero before the
-  /// first step; the soft step's are its last substep's (zero for a sleeping island there).
+  /// first step; the soft step's are the mean over its substeps (zero for a sleeping island).
   JointReaction jointReaction(JointId id) const;
   /// Largest error over all joints.
   double maxJointError() const;

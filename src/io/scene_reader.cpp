@@ -37,8 +37,8 @@ SceneError::SceneError(std::string file, std::string field, std::string problem)
 namespace {
 
 // What acts on a joint's free coordinate (CoordinateDef).
-constexpr std::string_view kCoordinateFields[] = {"limits", "motor", "spring", "friction",
-                                                  "locked"};
+constexpr std::string_view kCoordinateFields[] = {"limits",   "motor",  "spring",
+                                                  "friction", "locked", "prescribed"};
 
 using json = nlohmann::json;
 
@@ -890,9 +890,16 @@ class Reader {
     if (auto v = get(n, "friction")) c.friction = nonNegative(*v);
     if (auto v = get(n, "locked")) {
       c.locked = boolean(*v);
-      for (std::string_view key : {"limits", "motor", "spring", "friction"})
+      for (std::string_view key : {"limits", "motor", "spring", "friction", "prescribed"})
         if (c.locked && n.value.contains(key))
           fail(childPath(n.path, key), "a locked coordinate takes nothing else");
+    }
+    if (auto v = get(n, "prescribed")) {
+      c.prescribed = signal(*v);
+      for (std::string_view key : {"limits", "motor", "spring", "friction"})
+        if (n.value.contains(key))
+          fail(childPath(n.path, key),
+               "a prescribed coordinate takes nothing else (it moves as the table says)");
     }
     return c;
   }

@@ -1,5 +1,6 @@
 #include <linx/joint.hpp>
 
+#include "joints/row_parts.hpp"
 #include "joints/validation.hpp"
 #include "math/rotation.hpp"
 
@@ -45,7 +46,8 @@ void Joint::setFriction(double friction, int coordinate) {
 
 double Joint::error(const BodyState& b1, const BodyState& b2) const {
   // The rows' own phi is the error: equality rows count fully, limits only when overshot. Zero
-  // velocities keep not-yet-reached limits out; h only scales the (unused) bias.
+  // velocities keep not-yet-reached limits out; h only scales the (unused) bias. A prescribed
+  // coordinate's target is taken in time, which this does not know: its row does not count.
   const BodyState s1{b1.pose, Vec3::Zero(), Vec3::Zero()};
   const BodyState s2{b2.pose, Vec3::Zero(), Vec3::Zero()};
   std::vector<Row> rows(static_cast<std::size_t>(maxRows()));
@@ -53,7 +55,8 @@ double Joint::error(const BodyState& b1, const BodyState& b2) const {
   double err = 0.0;
   for (int k = 0; k < n; ++k) {
     const Row& r = rows[static_cast<std::size_t>(k)];
-    if (r.kind == RowKind::Bilateral) err = std::max(err, std::abs(r.phi));
+    if (r.kind == RowKind::Bilateral && !joints::isPrescribedSlot(static_cast<int>(r.key & 0xff)))
+      err = std::max(err, std::abs(r.phi));
     if (r.kind == RowKind::Unilateral) err = std::max(err, -r.phi);
   }
   return err;

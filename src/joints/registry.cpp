@@ -145,6 +145,14 @@ void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
   if (c.locked && (c.limits || c.motor || c.spring || c.friction != 0.0))
     throw std::invalid_argument(
         prefix + "locked: a locked coordinate takes no limits, motor, spring or friction");
+  if (c.prescribed) {
+    if (c.locked || c.limits || c.motor || c.spring || c.friction != 0.0)
+      throw std::invalid_argument(
+          prefix +
+          "prescribed: a prescribed coordinate takes no limits, motor, spring, friction or "
+          "lock");
+    validateSignal(*c.prescribed, prefix + "prescribed");
+  }
   if (c.limits && !(c.limits->lower <= c.limits->upper))
     throw std::invalid_argument(prefix + "limits: lower must not exceed upper");
   if (!(std::isfinite(c.friction) && c.friction >= 0.0))

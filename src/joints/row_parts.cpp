@@ -181,6 +181,15 @@ void motorRow(const JointContext& ctx, double target, double max_force, Row& row
   row.hi = ctx.h * max_force;
 }
 
+void prescribedRow(const JointContext& ctx, const Signal& target, Row& row) {
+  row.kind = RowKind::Bilateral;
+  row.phi -= target.at(ctx.time);
+  row.speed = target.rate(ctx.time);
+  row.erp = 1.0;
+  row.lo = -kInfinity;
+  row.hi = kInfinity;
+}
+
 void frictionRow(const JointContext& ctx, double friction, Row& row) {
   motorRow(ctx, 0.0, friction, row);
   row.cfm = kFrictionSoftness * inverseMassAlong(row, ctx.m1, ctx.m2);

@@ -103,6 +103,12 @@ inline constexpr double kAngularLimitMargin = 2e-2;  ///< (rad)
 /// Turns a coordinate row into a velocity motor row: J u = target, |lambda| <= h max_force.
 void motorRow(const JointContext& ctx, double target, double max_force, Row& row);
 
+/// Turns a coordinate row (J, phi = coordinate) into the equality of a prescribed coordinate:
+/// C = coordinate - target(t), its rate target'(t), the whole error removed in the step (erp 1),
+/// so that a step ends on the target, and position correction (at the bodies' time) keeps it
+/// there.
+void prescribedRow(const JointContext& ctx, const Signal& target, Row& row);
+
 /// Turns a coordinate row into a joint friction row: J u = 0, |lambda| <= h friction, softened by a
 /// constraint force mixing of kFrictionSoftness of the row's own inverse mass. The row shares its
 /// J with the coordinate's limit rows: at a limit both would hold the same rate, a singular pair
@@ -129,10 +135,15 @@ double implicitShare(double stiffness, double inverse_mass, double h);
 void driveRow(const JointContext& ctx, double stiffness, double damping, double target_rate,
               double max_force, Row& row);
 
-/// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction, 5 lock)
+/// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction, 5 lock,
+/// 6 prescribed)
 /// of free coordinate `index`: after every joint's equality rows (slots below 16).
 constexpr int coordinateSlot(int index, int part) {
   return 16 + 8 * index + part;
+}
+/// Whether a row's slot (its key's low byte) is a prescribed coordinate's (part 6).
+constexpr bool isPrescribedSlot(int slot) {
+  return slot >= 16 && (slot - 16) % 8 == 6;
 }
 /// Rows a free coordinate may add: two limits, a motor, a spring, friction.
 inline constexpr int kCoordinateRows = 5;
@@ -154,6 +165,10 @@ int coordinateRows(const JointContext& ctx, const CoordinateDef& c, int index, d
     row.kind = RowKind::Bilateral;
     row.lo = -kInfinity;
     row.hi = kInfinity;
+    return n + 1;
+  }
+  if (c.prescribed) {
+    prescribedRow(ctx, *c.prescribed, next(6));
     return n + 1;
   }
   if (c.limits) {

@@ -27,7 +27,8 @@ JointContext contextOf(std::span<const Body> bodies, const Joint& j, const Solve
   JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
                    def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
   ctx.time = time;
-  // Only drives (servos, springs) and friction read the inertia: the others skip rotating it to the world.
+  // Only drives (servos, springs) and friction read the inertia: the others skip rotating it to the
+  // world.
   const auto drives = [](const CoordinateDef& c) {
     return c.spring || (c.motor && c.motor->isServo()) || c.friction > 0.0;
   };

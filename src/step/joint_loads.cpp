@@ -4,13 +4,14 @@ namespace linx::step {
 
 void JointLoads::measure(std::span<const Row> rows, std::span<const double> lambda, double h,
                          std::span<const std::unique_ptr<Joint>> joints,
-                         std::span<const Body> bodies) {
+                         std::span<const Body> bodies, bool add) {
   // J^T lambda / h on body1: its force, and its torque about body1's centre of mass...
-  loads_.assign(joints.size(), JointReaction{});
+  if (!add || loads_.size() != joints.size()) loads_.assign(joints.size(), JointReaction{});
+  measured_.assign(joints.size(), JointReaction{});
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const std::size_t owner = static_cast<std::size_t>(rows[k].key >> 8);
     if (owner == 0 || owner > joints.size()) continue;  // not a joint's row
-    JointReaction& load = loads_[owner - 1];
+    JointReaction& load = measured_[owner - 1];
     const double f = lambda[k] / h;
     load.force += f * rows[k].Ja.head<3>();
     load.torque += f * rows[k].Ja.tail<3>();
@@ -19,7 +20,8 @@ void JointLoads::measure(std::span<const Row> rows, std::span<const double> lamb
   for (std::size_t j = 0; j < joints.size(); ++j) {
     const Body& body1 = bodies[static_cast<std::size_t>(joints[j]->body1().index)];
     const Vec3 arm = body1.orientation() * joints[j]->anchor1();
-    loads_[j].torque -= arm.cross(loads_[j].force);
+    loads_[j].force += measured_[j].force;
+    loads_[j].torque += measured_[j].torque - arm.cross(measured_[j].force);
   }
 }
 

@@ -18,15 +18,18 @@ class JointLoads {
   /// From assembled joint rows (keys (joint + 1) << 8 | slot) and their impulses over `h`, with
   /// the bodies at the poses the rows were made at (the torque is taken about the anchor there);
   /// joints without a row here read zero.
+  /// With `add`, the loads are added to the ones measured so far (the substeps of one step, each
+  /// measured over the whole step's h: their mean).
   void measure(std::span<const Row> rows, std::span<const double> lambda, double h,
-               std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies);
+               std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
+               bool add = false);
   /// Joint `joint`'s reaction on its body1, zero before the first step.
   JointReaction of(std::size_t joint) const {
     return joint < loads_.size() ? loads_[joint] : JointReaction{};
   }
 
  private:
-  std::vector<JointReaction> loads_;
+  std::vector<JointReaction> loads_, measured_;
 };
 
 }  // namespace linx::step

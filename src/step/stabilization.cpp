@@ -75,9 +75,10 @@ void PostStabilization::addCurvature(std::span<const Body> bodies, std::span<Row
 
 double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
                                  std::span<const Body> bodies, const SolverSettings& settings,
-                                 std::span<const std::uint8_t> frozen) {
-  // Targets do not enter the projection (a motor's row holds its coordinate): any time will do.
-  assembleRows(joints, bodies, settings, 1.0, 0.0, rows_);
+                                 std::span<const std::uint8_t> frozen, double time) {
+  // A motor's row holds its coordinate; a prescribed coordinate's is an equality with its target
+  // at the bodies' time.
+  assembleRows(joints, bodies, settings, 1.0, time, rows_);
   const auto fixed = [&](int body) {
     return body < 0 || (!frozen.empty() && frozen[static_cast<std::size_t>(body)]);
   };
@@ -140,13 +141,13 @@ bool PostStabilization::errorsOnFactoredRows() {
 double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
                               std::span<Body> bodies, const SolverSettings& settings,
                               int iterations, std::span<const std::uint8_t> frozen,
-                              const GeometricStiffness& stiffness) {
+                              const GeometricStiffness& stiffness, double time) {
   const auto still = [&](std::size_t i) {
     return bodies[i].isStatic() || (!frozen.empty() && frozen[i]);
   };
   double err = 0.0, last = 0.0, factored_err = 0.0;
   for (int it = 0; it < iterations; ++it) {
-    err = gather(joints, bodies, settings, frozen);
+    err = gather(joints, bodies, settings, frozen, time);
     if (err <= settings.projection_tolerance) break;
     const bool converging = it > 0 && err <= 0.01 * last && factored_err <= kSmallCorrection;
     last = err;

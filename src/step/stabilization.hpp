@@ -67,17 +67,17 @@ class PostStabilization {
   /// Runs at most `iterations` Newton iterations, stopping once every error is below
   /// `settings.projection_tolerance`. Bodies flagged in `frozen` (sleeping ones) are held where
   /// they are, as if static. The metric is the velocity solve's, the bodies' masses with their
-  /// geometric stiffness. Returns the largest error measured (m or rad), before the last
-  /// correction.
+  /// geometric stiffness. `time` is the bodies' (a prescribed coordinate's target is taken
+  /// there). Returns the largest error measured (m or rad), before the last correction.
   double run(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
              const SolverSettings& settings, int iterations, std::span<const std::uint8_t> frozen,
-             const GeometricStiffness& stiffness);
+             const GeometricStiffness& stiffness, double time);
 
  private:
   /// The rows that carry a position error at the current poses, each made to remove all of it
   /// (erp = 1 over a unit time). Returns the largest error.
   double gather(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
-                const SolverSettings& settings, std::span<const std::uint8_t> frozen);
+                const SolverSettings& settings, std::span<const std::uint8_t> frozen, double time);
 
   /// lambda_ = -phi of rows_ laid out on factored_'s rows (the last factorization's), 0 on those
   /// rows_ lacks. False when rows_ has a row factored_ lacks (a body fell asleep or woke).

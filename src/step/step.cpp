@@ -236,6 +236,8 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     if (!joints.empty()) joint_report = joints.solve(bodies, false, settings, h, scene.threads);
     solver.accumulate();
     joints.store(state.joint_warm);
+    state.joint_loads.measure(joints.rows(), joints.impulses(), n * h, scene.joints, scene.bodies,
+                              s > 0);
     toBodies();
   }
   // restitution: contacts that approached faster than the threshold at the start of the step
@@ -245,7 +247,6 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     if (r.row >= 0 && r.law.restitution > 0.0)
       state.bounces.push_back(
           solver::SoftSolver::Bounce{r.row, r.law.restitution, r.law.restitution_threshold});
-  state.joint_loads.measure(joints.rows(), joints.impulses(), h, scene.joints, scene.bodies);
   solver.restitution(state.bounces);
   toBodies();
   std::copy(solver.lambda().begin(), solver.lambda().end(), state.rows.lambda.begin());
@@ -263,8 +264,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
 /// step's: their sum over its substeps).
 void storeImpulses(const Scene& scene, State& state, double h, bool soft) {
   const Rows& r = state.rows;
-  // The soft step's joints stored theirs after each substep, and measured the last substep's
-  // loads.
+  // The soft step's joints stored theirs after each substep, and measured their loads there.
   if (!soft) {
     const auto joint_rows = std::span<const Row>(r.rows).first(r.joint_rows);
     state.joint_warm.store(joint_rows, r.lambda);
@@ -287,8 +287,8 @@ void integratePositions(const Scene& scene, const State& state, double h) {
 
 /// stabilize: Newton iterations remove the joints' position errors (step/stabilization), as many as
 /// `post_stabilization` (or `projection_iterations` with `projection` on); sleeping bodies are held
-/// where they are.
-void stabilize(const Scene& scene, State& state) {
+/// where they are. `time`: the bodies' (the pass's end).
+void stabilize(const Scene& scene, State& state, double time) {
   const SolverSettings& settings = scene.settings.solver;
   const int iterations = settings.projection
                              ? std::max(settings.post_stabilization, settings.projection_iterations)
@@ -298,7 +298,7 @@ void stabilize(const Scene& scene, State& state) {
     frozen.resize(scene.bodies.size());
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) frozen[i] = !awake(state, i);
     state.stabilization.run(scene.joints, scene.bodies, settings, iterations, frozen,
-                            state.geometric_stiffness);
+                            state.geometric_stiffness, time);
   }
   state.stabilization.endStep(scene.bodies);
 }
@@ -341,7 +341,7 @@ SolverReport pass(const Scene& scene, State& state, double h) {
   const SolverReport report = solve(scene, state, island_awake, h);
   storeImpulses(scene, state, h, false);
   integratePositions(scene, state, h);
-  stabilize(scene, state);
+  stabilize(scene, state, scene.time + h);
   trackJoints(scene);
   sleep(scene, state, h);
   return report;
@@ -359,7 +359,7 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   if (scene.settings.solver.post_stabilization > 0) state.stabilization.beginStep(scene.bodies);
   const SolverReport report = substeps(scene, state, island_awake, dt);
   storeImpulses(scene, state, dt, true);
-  stabilize(scene, state);
+  stabilize(scene, state, scene.time + dt);
   trackJoints(scene);
   sleep(scene, state, dt);
   return report;

@@ -155,10 +155,15 @@ void World::step() {
   }
   time_ = clock_origin_ + static_cast<double>(++clock_steps_) * h;
   const auto& rows = impl_->step.rows.rows;
-  // Motors and servos drive; a spring's energy is not counted in the check's.
-  const bool motors = std::any_of(rows.begin(), rows.end(), [](const Row& r) {
-    return r.kind == RowKind::Motor || r.kind == RowKind::Drive;
-  });
+  // Motors, servos and prescribed motion drive; a spring's energy is not counted in the check's.
+  const bool motors =
+      std::any_of(
+          rows.begin(), rows.end(),
+          [](const Row& r) { return r.kind == RowKind::Motor || r.kind == RowKind::Drive; }) ||
+      std::any_of(joints_.begin(), joints_.end(), [](const auto& j) {
+        const auto& c = j->def().coordinates;
+        return std::any_of(c.begin(), c.end(), [](const CoordinateDef& d) { return d.prescribed; });
+      });
   impl_->check.end(bodies_, settings_.gravity, faults, motors, steps_, time_);
 }
 
