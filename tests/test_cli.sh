@@ -128,6 +128,21 @@ case "$case_name" in
     [ -e plain/contacts.csv ] && fail "contacts.csv written without --contacts"
     ;;
 
+  run_breaks)
+    # The ball of breaking_bridge.json lands at 0.207 s and breaks five of the welds: each is
+    # reported as it breaks and listed in breaks.csv. A run of a scene without breakable joints in
+    # the same folder removes that breaks.csv.
+    expect 0 "$linx" run "$examples/breaking_bridge.json" --out out --duration 0.3 --every 100
+    grep -q "^t = 0.207 s: joint 'weld4' broke: torque above its break_torque of 400 N m " out.txt ||
+      fail "no report of weld4 breaking"
+    grep -q "^wrote 5 files to out " out.txt || fail "summary: expected 5 files"
+    [ "$(head -n 1 out/breaks.csv)" = "time,step,joint,fx,fy,fz,tx,ty,tz" ] || fail "breaks.csv header"
+    [ "$(awk -F, 'NR > 1 && $2 == 207 {n++} END {print n}' out/breaks.csv)" = 5 ] ||
+      fail "breaks.csv: expected five welds broken in step 207"
+    expect 0 "$linx" run "$examples/pendulum.json" --out out --duration 0.01
+    [ -e out/breaks.csv ] && fail "breaks.csv of the earlier run left behind"
+    ;;
+
   bad_scenes)
     printf '{"bodies": [{"name": "bob", "mas": 1}]}' >unknown.json
     printf '{\n  "bodies": [\n    {"name": "bob",}\n  ]\n}\n' >syntax.json

@@ -817,6 +817,8 @@ TEST(SceneError, Joints) {
          s["joints"][0]["friction"] = 1;
        },
        "joints[0].friction", "a prescribed coordinate takes nothing else"},
+      {[](json& s) { s["joints"][0]["break_force"] = 0; }, "joints[0].break_force",
+       "must be > 0"},
       {[](json& s) { s["joints"][0]["prescribed"] = "fast"; }, "joints[0].prescribed",
        "expected a number or a table"},
       {joint(R"({"name": "d", "type": "distance", "body1": "a"})"), "joints[0].anchor2",
@@ -878,6 +880,15 @@ TEST(SceneRead, GenericJointLocksAndFreesEachAxis) {
   EXPECT_EQ(d.coordinates[1].limits->upper, 1.0);
   EXPECT_TRUE(d.coordinates[2].empty());  // free: nothing acts on it
   EXPECT_TRUE(d.coordinates[5].empty());
+}
+
+TEST(SceneRead, BreakableJoint) {
+  json scene = baseScene();
+  scene["joints"][0]["break_force"] = 250;
+  scene["joints"][0]["break_torque"] = 12.5;
+  const linx::JointDef d = parse(scene).joints.at(0).def;
+  EXPECT_EQ(d.break_force, 250.0);
+  EXPECT_EQ(d.break_torque, 12.5);
 }
 
 TEST(SceneRead, PrescribedCoordinate) {

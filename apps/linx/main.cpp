@@ -116,6 +116,24 @@ int check(const RunOptions& options) {
 
 int writeVtk(const std::string& dir);
 
+// One line on stdout for each joint that broke since the last call.
+void reportBreaks(const linx::World& world, std::size_t& reported,
+                  linx::cli::ProgressBar& progress) {
+  const auto breaks = world.jointBreaks();
+  for (; reported < breaks.size(); ++reported) {
+    const linx::JointBreak& b = breaks[reported];
+    const linx::JointDef& def = world.joint(b.joint).def();
+    const double force = b.reaction.force.norm(), torque = b.reaction.torque.norm();
+    const bool by_force = force > def.break_force.value_or(linx::kInfinity);
+    progress.clear();
+    fmt::print("t = {:.9g} s: joint '{}' broke: {} (force {:.6g} N, torque {:.6g} N m)\n", b.time,
+               def.name,
+               by_force ? fmt::format("force above its break_force of {} N", *def.break_force)
+                        : fmt::format("torque above its break_torque of {} N m", *def.break_torque),
+               force, torque);
+  }
+}
+
 int run(const RunOptions& options) {
   if (options.every < 1) {
     throw BadInput(fmt::format("--every: must be at least 1, got {}", options.every));
@@ -131,10 +149,15 @@ int run(const RunOptions& options) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
 
-  linx::Recorder recorder(options.out, linx::RecorderOptions{.contacts = options.contacts});
+  bool breakable = false;
+  for (const linx::SceneJoint& j : p.scene.joints)
+    breakable = breakable || j.def.break_force || j.def.break_torque;
+  linx::Recorder recorder(options.out,
+                          linx::RecorderOptions{.contacts = options.contacts, .breaks = breakable});
   recorder.addFile("scene.json", linx::runSceneJson(p.scene, world, options.every));
   recorder.record(world);
   std::int64_t frames = 1;
+  std::size_t breaks_reported = 0;
   linx::cli::ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr, p.steps,
                                   p.scene.duration);
   for (std::int64_t step = 1; step <= p.steps; ++step) {
@@ -145,6 +168,7 @@ int run(const RunOptions& options) {
       fmt::print(stderr, "linx: {}: {}; nothing written\n", options.scene, e.what());
       return kExitNonFinite;
     }
+    reportBreaks(world, breaks_reported, progress);
     if (step % options.every == 0 || step == p.steps) {
       recorder.record(world);
       ++frames;
@@ -159,8 +183,9 @@ int run(const RunOptions& options) {
   }
   progress.clear();
   recorder.commit();
-  fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n", options.contacts ? 5 : 4,
-             options.out, frames, p.steps, world.time());
+  fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n",
+             4 + int{options.contacts} + int{breakable}, options.out, frames, p.steps,
+             world.time());
   if (options.vtk) writeVtk(options.out);
   if (options.render) return linx::cli::render(linx::cli::RenderOptions{.dir = options.out});
   return 0;

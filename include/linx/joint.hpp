@@ -129,6 +129,11 @@ struct JointDef {
   /// Limits, drives, springs and friction of the type's free coordinates, in the order of
   /// JointTypeInfo::coordinates (a hinge's angle is coordinates[0]); the rest stay empty.
   std::array<CoordinateDef, kMaxCoordinates> coordinates = {};
+  /// Breakable joint: it breaks (World::jointBreaks, then acts no more) at the end of the first
+  /// step over which the force it applied (N) exceeded `break_force`, or its torque about the
+  /// anchor (N m) `break_torque` (World::jointReaction). Both > 0; none: it never breaks.
+  std::optional<double> break_force = std::nullopt;
+  std::optional<double> break_torque = std::nullopt;
   std::optional<double> erp = std::nullopt;  ///< overrides the world's error reduction
   std::optional<double> cfm = std::nullopt;  ///< overrides the world's constraint force mixing
   bool collide = false;  ///< the two joined bodies' shapes still collide with each other
@@ -214,12 +219,18 @@ class Joint {
   void setLimits(std::optional<JointLimits> limits, int coordinate = 0);
   void setSpring(std::optional<JointSpring> spring, int coordinate = 0);
   void setFriction(double friction, int coordinate = 0);
+  /// A disabled joint (broken, or switched off) has no rows and no longer keeps its two bodies'
+  /// shapes from colliding; its coordinates are still reported. Enabling it again pulls the
+  /// bodies back together (a sleeping island notices at World::wake).
+  bool enabled() const { return enabled_; }
+  void setEnabled(bool enabled) { enabled_ = enabled; }
 
  private:
   friend std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def,
                                           const BodyState& b1, const BodyState& b2);
   JointDef def_;
   Vec3 anchor1_ = Vec3::Zero();
+  bool enabled_ = true;
 };
 
 /// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball", "universal") from its

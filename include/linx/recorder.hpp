@@ -4,6 +4,7 @@
 //   DIR/world.csv   time,kinetic_energy,potential_energy,total_energy,max_joint_error,
 //                   solver_iterations,residual
 //   DIR/contacts.csv time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse   (when asked for)
+//   DIR/breaks.csv  time,step,joint,fx,fy,fz,tx,ty,tz: each joint that broke (when asked for)
 // and any file added with addFile() (the run's scene.json).
 // Files are written under temporary names and renamed by commit(), so an interrupted or failed
 // run never leaves half a file under the final names.
@@ -19,6 +20,8 @@ namespace linx {
 
 struct RecorderOptions {
   bool contacts = false;  ///< also write contacts.csv: every contact point of each recorded step
+  /// Also write breaks.csv: every joint that broke (World::jointBreaks), recorded or not.
+  bool breaks = false;
 };
 
 class Recorder {
@@ -41,6 +44,7 @@ class Recorder {
   struct Files;
   std::filesystem::path dir_;
   std::unique_ptr<Files> files_;
+  std::size_t breaks_written_ = 0;
   bool committed_ = false;
 };
 

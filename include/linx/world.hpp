@@ -94,6 +94,15 @@ struct JointId {
   friend bool operator==(JointId, JointId) = default;
 };
 
+/// A joint that broke: what it applied over the step it broke in was more than its break_force or
+/// break_torque (JointDef). From then on it is disabled (Joint::enabled).
+struct JointBreak {
+  JointId joint;
+  std::int64_t step = 0;   ///< the step it broke in (1: the first step)
+  double time = 0.0;       ///< (s) at the end of that step
+  JointReaction reaction;  ///< what it applied to its body1 over that step (World::jointReaction)
+};
+
 /// Energies of the whole world (J). Potential energy is gravitational, zero at the origin.
 struct Energy {
   double kinetic = 0.0;
@@ -148,13 +157,15 @@ class World {
   /// The joint's coordinates (hinge angle in rad, slider position in m, ...: Joint::coordinates),
   /// zero at creation.
   JointCoordinates jointCoordinates(JointId id) const;
-  /// The joint's largest position error (m or rad).
+  /// The joint's largest position error (m or rad); zero for a disabled joint.
   double jointError(JointId id) const;
   /// What the joint applied to its body1 over the last step (world frame): the force and the
   /// torque about the joint's anchor (where it sits on body1). body2 received the opposite of
   /// both, about the same point. Limits, motors, servos and springs included; zero before the
   /// first step; the soft step's are the mean over its substeps (zero for a sleeping island).
   JointReaction jointReaction(JointId id) const;
+  /// The joints that broke so far, in the order they broke.
+  std::span<const JointBreak> jointBreaks() const { return breaks_; }
   /// Largest error over all joints.
   double maxJointError() const;
   Energy energy() const;
@@ -163,6 +174,8 @@ class World {
 
  private:
   struct Impl;
+  /// Disables the joints whose reaction over the last step passed their break thresholds.
+  void breakOverloadedJoints();
 
   WorldSettings settings_;
   std::vector<Body> bodies_;
@@ -172,6 +185,7 @@ class World {
   double clock_origin_ = 0.0, clock_step_ = 0.0;  // time_ = origin + clock_steps_ * clock_step_
   std::int64_t clock_steps_ = 0;
   SolverReport report_;
+  std::vector<JointBreak> breaks_;
   std::unique_ptr<Impl> impl_;  // solver state kept across steps (warm start, work buffers)
 };
 

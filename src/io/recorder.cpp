@@ -23,16 +23,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum Output { kBodies, kJoints, kWorld, kContacts, kOutputCount };
+enum Output { kBodies, kJoints, kWorld, kContacts, kBreaks, kOutputCount };
 
-constexpr std::array<std::string_view, kOutputCount> kFileNames = {"bodies.csv", "joints.csv",
-                                                                   "world.csv", "contacts.csv"};
+constexpr std::array<std::string_view, kOutputCount> kFileNames = {
+    "bodies.csv", "joints.csv", "world.csv", "contacts.csv", "breaks.csv"};
 constexpr std::array<std::string_view, kOutputCount> kHeaders = {
     "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz",
     "time,joint,coordinate,error,fx,fy,fz,tx,ty,tz,coordinate2,coordinate3,coordinate4,coordinate5,"
     "coordinate6",
     "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual",
     "time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse",
+    "time,step,joint,fx,fy,fz,tx,ty,tz",
 };
 
 // A name as one CSV field: quoted when it holds a separator, a quote or a line break.
@@ -88,7 +89,7 @@ Recorder::Recorder(const fs::path& dir, const RecorderOptions& options)
     throw ioError("create the output directory", dir_, ec ? ec.value() : ENOTDIR);
   }
   for (int i = 0; i < kOutputCount; ++i) {
-    if (i == kContacts && !options.contacts) continue;
+    if ((i == kContacts && !options.contacts) || (i == kBreaks && !options.breaks)) continue;
     files_->temp[i] = dir_ / fmt::format(".{}.tmp", kFileNames[i]);
     files_->file[i] = std::fopen(files_->temp[i].c_str(), "wb");
     if (!files_->file[i]) throw ioError("create", files_->temp[i], errno);
@@ -132,6 +133,17 @@ void Recorder::record(const World& world) {
   const SolverReport& report = world.lastReport();
   fmt::print(files_->file[kWorld], "{},{},{},{},{},{},{}\n", t, e.kinetic, e.potential, e.total(),
              world.maxJointError(), report.iterations, report.residual);
+
+  if (std::FILE* breaks = files_->file[kBreaks]) {
+    const auto all = world.jointBreaks();
+    for (; breaks_written_ < all.size(); ++breaks_written_) {
+      const JointBreak& b = all[breaks_written_];
+      const JointReaction& r = b.reaction;
+      fmt::print(breaks, "{},{},{},{},{},{},{},{},{}\n", b.time, b.step,
+                 csvField(world.joint(b.joint).name()), r.force.x(), r.force.y(), r.force.z(),
+                 r.torque.x(), r.torque.y(), r.torque.z());
+    }
+  }
 
   if (std::FILE* contacts = files_->file[kContacts]) {
     for (const Contact& c : world.contacts()) {
@@ -181,10 +193,11 @@ void Recorder::commit() {
     if (ec) throw ioError("rename to", final_path, ec.value());
   }
   files_->extra_temp.clear();
-  // A contacts.csv left by an earlier run with --contacts would not belong to this one.
-  if (files_->temp[kContacts].empty()) {
+  // A contacts.csv or breaks.csv left by an earlier run would not belong to this one.
+  for (const Output optional : {kContacts, kBreaks}) {
+    if (!files_->temp[optional].empty()) continue;
     std::error_code ec;
-    fs::remove(dir_ / kFileNames[kContacts], ec);
+    fs::remove(dir_ / kFileNames[optional], ec);
   }
   files_->keep = true;
   committed_ = true;

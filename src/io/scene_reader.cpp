@@ -751,8 +751,9 @@ class Reader {
     // fields; one with several, in an object per coordinate named as the type names it.
     const int free = fields->freeCoordinates();
     std::vector<std::string_view> allowed{
-        "name", "type",    "body1",   "body2",   "anchor", "axis", "axis1", "axis2", "erp",
-        "cfm",  "collide", "anchor1", "anchor2", "length", "rope", "cone",  "ratio"};
+        "name",  "type", "body1", "body2",       "anchor",      "axis",    "axis1",
+        "axis2", "erp",  "cfm",   "collide",     "anchor1",     "anchor2", "length",
+        "rope",  "cone", "ratio", "break_force", "break_torque"};
     allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
@@ -851,6 +852,8 @@ class Reader {
     if (auto v = get(n, "erp")) d.erp = unitInterval(*v);
     if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
     if (auto v = get(n, "collide")) d.collide = boolean(*v);
+    if (auto v = get(n, "break_force")) d.break_force = positive(*v);
+    if (auto v = get(n, "break_torque")) d.break_torque = positive(*v);
     return joint;
   }
 

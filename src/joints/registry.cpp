@@ -113,6 +113,10 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
       if (!(s > 0.0 && s < M_PI))
         throw std::invalid_argument("cone: swing1 and swing2 must be in (0, pi) rad");
   }
+  for (const auto& [field, value] :
+       {std::pair{"break_force", def.break_force}, std::pair{"break_torque", def.break_torque}})
+    if (value && !(std::isfinite(*value) && *value > 0.0))
+      throw std::invalid_argument(fmt::format("{}: must be finite and > 0", field));
   if (def.erp && !(*def.erp >= 0.0 && *def.erp <= 1.0))
     throw std::invalid_argument("erp: must be in [0, 1]");
   if (def.cfm && !(*def.cfm >= 0.0 && std::isfinite(*def.cfm)))

@@ -54,13 +54,15 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
                   const SolverSettings& settings, double h, double time, std::vector<Row>& rows) {
   // 1. count
   std::size_t capacity = 0;
-  for (const auto& j : joints) capacity += static_cast<std::size_t>(j->maxRows());
+  for (const auto& j : joints)
+    if (j->enabled()) capacity += static_cast<std::size_t>(j->maxRows());
   // 2. allocate (the vector keeps its capacity across steps: no allocation after warm-up)
   rows.resize(capacity);
   // 3. fill
   std::size_t used = 0;
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
+    if (!j.enabled()) continue;  // broken or switched off: no rows
     const JointContext ctx = contextOf(bodies, j, settings, h, time);
     const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
     for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};

@@ -139,7 +139,7 @@ void ContactStage::detect(std::span<const Body> bodies,
 
   joined_.clear();
   for (const auto& j : joints) {
-    if (j->def().collide || j->body2().isWorld()) continue;
+    if (j->def().collide || j->body2().isWorld() || !j->enabled()) continue;
     const int a = j->body1().index, b = j->body2().index;
     joined_.emplace_back(std::min(a, b), std::max(a, b));
   }

@@ -165,6 +165,21 @@ void World::step() {
         return std::any_of(c.begin(), c.end(), [](const CoordinateDef& d) { return d.prescribed; });
       });
   impl_->check.end(bodies_, settings_.gravity, faults, motors, steps_, time_);
+  breakOverloadedJoints();
+}
+
+void World::breakOverloadedJoints() {
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    Joint& j = *joints_[i];
+    const JointDef& def = j.def();
+    if (!j.enabled() || !(def.break_force || def.break_torque)) continue;
+    const JointReaction r = impl_->step.joint_loads.of(i);
+    if (r.force.norm() > def.break_force.value_or(kInfinity) ||
+        r.torque.norm() > def.break_torque.value_or(kInfinity)) {
+      j.setEnabled(false);
+      breaks_.push_back(JointBreak{JointId{static_cast<int>(i)}, steps_, time_, r});
+    }
+  }
 }
 
 bool World::isAsleep(BodyId id) const {
@@ -193,6 +208,7 @@ JointReaction World::jointReaction(JointId id) const {
 
 double World::jointError(JointId id) const {
   const Joint& j = joint(id);
+  if (!j.enabled()) return 0.0;
   return j.error(bodyState(j.body1()), bodyState(j.body2()));
 }
 
