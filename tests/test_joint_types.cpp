@@ -103,8 +103,8 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       }
     }
   }
-  // slider, hinge, universal, cylindrical, hinge2, cone-twist, planar, generic
-  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 1 + 3 + 6));
+  // slider, hinge, universal, cylindrical, hinge2, cone-twist, planar, generic, spring
+  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 1 + 3 + 6 + 1));
 }
 
 WorldSettings settings(bool gravity) {

@@ -28,7 +28,12 @@ struct BodyDef {
   Vec3 linear_velocity = Vec3::Zero();         ///< of the centre of mass, world frame (m/s)
   Vec3 angular_velocity = Vec3::Zero();        ///< world frame (rad/s)
   bool is_static = false;                      ///< infinite mass: never moves
-  std::vector<ShapeDef> shapes;                ///< for drawing now and contacts later
+  /// Damping of the body's motion (1/s), >= 0: dv/dt = -linear_damping v, dw/dt = -angular_damping
+  /// w, integrated implicitly (v / (1 + h c) each step: stable at any value). Air drag, or a body
+  /// in a fluid, in a simple form; 0 (the default) for none.
+  double linear_damping = 0.0;
+  double angular_damping = 0.0;
+  std::vector<ShapeDef> shapes;  ///< for drawing now and contacts later
 };
 
 /// Opaque index of a body in its World. Index -1 stands for the fixed world frame.
@@ -82,6 +87,9 @@ class Body {
 
   const std::vector<ShapeDef>& shapes() const { return shapes_; }
 
+  double linearDamping() const { return linear_damping_; }  ///< (1/s), BodyDef::linear_damping
+  double angularDamping() const { return angular_damping_; }
+
  private:
   std::string name_;
   bool is_static_ = false;
@@ -91,6 +99,7 @@ class Body {
   Vec3 v_ = Vec3::Zero(), w_ = Vec3::Zero();
   Vec3 force_ = Vec3::Zero(), torque_ = Vec3::Zero();
   std::vector<ShapeDef> shapes_;
+  double linear_damping_ = 0.0, angular_damping_ = 0.0;
 };
 
 }  // namespace linx

@@ -6,6 +6,7 @@
 
 #include <linx/body.hpp>
 #include <linx/row.hpp>
+#include <linx/signal.hpp>
 #include <linx/types.hpp>
 
 #include <array>
@@ -30,21 +31,6 @@ struct JointLimits {
 struct ConeLimit {
   double swing1 = 0.0;
   double swing2 = 0.0;
-};
-
-/// A value in time: a constant, or a table of points (times strictly increasing) interpolated
-/// linearly between them and held at the first and last values outside them.
-struct Signal {
-  Signal(double constant = 0.0) : values{constant} {}  // NOLINT: a number is a constant signal
-  Signal(std::vector<double> times_, std::vector<double> values_)
-      : times(std::move(times_)), values(std::move(values_)) {}
-  std::vector<double> times;   ///< (s), empty for a constant
-  std::vector<double> values;  ///< one per time; the constant alone when `times` is empty
-
-  double at(double t) const;
-  /// d/dt of at(t): the slope of the segment t is in (right-hand at a point), 0 outside.
-  double rate(double t) const;
-  bool operator==(const Signal&) const = default;
 };
 
 /// A drive on a joint coordinate x (m for sliders, rad for hinges), acting with a force (N) or
@@ -253,9 +239,11 @@ struct JointTypeInfo {
   bool needs_anchor = false;  ///< the anchor shapes the constraint (else any point will do)
   bool uses_axis = false;     ///< JointDef::axis
   bool uses_axis2 = false;    ///< JointDef::axis2 as well ("axis1" and "axis2" in a scene)
-  /// JointDef::anchor2, length and rope ("anchor1" and "anchor2" in a scene): a distance joint.
+  /// JointDef::anchor2 ("anchor1" and "anchor2" in a scene): a joint between two points (distance,
+  /// spring).
   bool uses_anchor2 = false;
-  bool uses_cone = false;  ///< JointDef::cone
+  bool uses_length = false;  ///< JointDef::length and rope (a distance joint)
+  bool uses_cone = false;    ///< JointDef::cone
   /// JointDef::ratio; `axis` and `axis2` need not be perpendicular (a gear joint).
   bool uses_ratio = false;
   /// The coordinates Joint::coordinates reports, in order.

@@ -4,10 +4,12 @@
 #include <linx/body.hpp>
 #include <linx/contact.hpp>
 #include <linx/joint.hpp>
+#include <linx/loads.hpp>
 #include <linx/solver.hpp>
 #include <linx/types.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -126,6 +128,17 @@ class World {
   /// Creates a joint of a registered type at the bodies' current poses; throws
   /// std::invalid_argument for a bad definition or unknown bodies.
   JointId createJoint(std::string_view type, const JointDef& def);
+
+  /// Adds a standing load: a force (at a point) and a torque on a body at every step, constant or
+  /// given in time (their values at each step's start). Throws std::invalid_argument for a static
+  /// or unknown body or a bad table.
+  LoadId addLoad(const LoadDef& def);
+  int loadCount() const;
+  /// Called at the start of every step, before the standing loads and the step itself, with the
+  /// world at the step's start (time()): it applies forces and torques with Body::applyForce,
+  /// applyForceAtPoint and applyTorque, or changes drives' targets (a controller). It must not
+  /// step the world. An empty function removes it.
+  void setForceCallback(std::function<void(World&)> callback);
 
   int bodyCount() const { return static_cast<int>(bodies_.size()); }
   int jointCount() const { return static_cast<int>(joints_.size()); }

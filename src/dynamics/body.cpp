@@ -10,7 +10,9 @@ Body::Body(const BodyDef& def)
       pose_{def.position, def.orientation.normalized()},
       v_(def.is_static ? Vec3::Zero() : def.linear_velocity),
       w_(def.is_static ? Vec3::Zero() : def.angular_velocity),
-      shapes_(def.shapes) {
+      shapes_(def.shapes),
+      linear_damping_(def.linear_damping),
+      angular_damping_(def.angular_damping) {
   if (is_static_) {
     mass_ = 0.0;
     inv_mass_ = 0.0;

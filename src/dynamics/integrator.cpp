@@ -25,14 +25,17 @@ Vec3 gyroscopicStep(const Mat3& inertia, const Vec3& w0, double h) {
 
 void integrateVelocity(Body& body, const Vec3& gravity, double h) {
   if (body.isStatic()) return;
-  body.setLinearVelocity(body.linearVelocity() + h * (gravity + body.inverseMass() * body.force()));
+  // Damping implicitly: v+ = (v + h a) / (1 + h c).
+  body.setLinearVelocity(
+      (body.linearVelocity() + h * (gravity + body.inverseMass() * body.force())) /
+      (1.0 + h * body.linearDamping()));
 
   const Mat3 r = body.orientation().toRotationMatrix();
   Vec3 w_body = r.transpose() * body.angularVelocity();
   if (!w_body.isZero(0.0)) w_body = gyroscopicStep(body.inertiaBody(), w_body, h);
   const Vec3 torque_body = r.transpose() * body.torque();
   w_body += h * (body.inverseInertiaBody() * torque_body);
-  body.setAngularVelocity(r * w_body);
+  body.setAngularVelocity(r * w_body / (1.0 + h * body.angularDamping()));
 }
 
 void integratePosition(Body& body, double h) {

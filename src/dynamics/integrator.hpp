@@ -6,7 +6,8 @@
 
 namespace linx::dynamics {
 
-/// u* = u + h M^-1 f: gravity, applied forces and torques, and the gyroscopic term w x (I w).
+/// u* = u + h M^-1 f: gravity, applied forces and torques, and the gyroscopic term w x (I w);
+/// then the body's damping, implicitly: u* / (1 + h c).
 /// The gyroscopic term is integrated by the implicit midpoint rule in the body frame, solved by
 /// Newton's method: it keeps 1/2 w.I w and |I w| of a torque-free body exactly (both are
 /// quadratic invariants of Euler's equations) and stays stable for fast asymmetric spin.

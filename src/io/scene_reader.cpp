@@ -786,8 +786,15 @@ class Reader {
     }
 
     if (fields->uses_anchor2) {
-      distance(n, bodies, d);
+      twoPoints(n, bodies, d);
       unused("anchor");
+      if (fields->uses_length) {
+        if (auto v = get(n, "length")) d.length = positive(*v);
+        if (auto v = get(n, "rope")) d.rope = boolean(*v);
+      } else {
+        unused("length");
+        unused("rope");
+      }
     } else {
       if (fields->needs_anchor) {
         d.anchor = vec3(require(n, "anchor"));
@@ -864,8 +871,8 @@ class Reader {
     return a;
   }
 
-  // A distance joint's two points (default: the bodies' positions), length and kind.
-  void distance(const Node& n, const std::vector<BodyDef>& bodies, JointDef& d) const {
+  // The two points of a distance or spring joint (default: the bodies' positions).
+  void twoPoints(const Node& n, const std::vector<BodyDef>& bodies, JointDef& d) const {
     const auto point = [&](std::string_view key, BodyId body) -> Vec3 {
       if (auto v = get(n, key)) return vec3(*v);
       if (body.isWorld())
@@ -880,8 +887,6 @@ class Reader {
            fmt::format("the two points must be apart at the start ({} m; a ball joint joins two "
                        "points)",
                        apart));
-    if (auto v = get(n, "length")) d.length = positive(*v);
-    if (auto v = get(n, "rope")) d.rope = boolean(*v);
   }
 
   // What acts on a free coordinate: the fields kCoordinateFields of `n`.

@@ -13,8 +13,7 @@ class DistanceJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
 
  private:
-  Vec3 point1_ = Vec3::Zero();  // on body 1, its frame
-  Vec3 point2_ = Vec3::Zero();  // on body 2, its frame
+  PointPair points_;
   double length_ = 0.0;
 };
 

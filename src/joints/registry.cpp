@@ -10,6 +10,7 @@
 #include "joints/hinge_joint.hpp"
 #include "joints/planar_joint.hpp"
 #include "joints/slider_joint.hpp"
+#include "joints/spring_joint.hpp"
 #include "joints/universal_joint.hpp"
 #include "joints/validation.hpp"
 
@@ -40,10 +41,11 @@ constexpr CoordinateInfo kSixAxes[] = {{"x", true},   {"y", true},   {"z", true}
 constexpr CoordinateInfo kTwistSwing[] = {{"twist", false}, {"swing", false, false}};
 constexpr CoordinateInfo kPlane[] = {{"x", true}, {"y", true}, {"angle", false}};
 constexpr CoordinateInfo kGearAngles[] = {{"angle1", false, false}, {"angle2", false, false}};
-constexpr CoordinateInfo kLength[] = {{"length", true, false}};     // reported, not driven
+constexpr CoordinateInfo kLength[] = {{"length", true, false}};  // reported, not driven
+constexpr CoordinateInfo kFreeLength[] = {{"length", true}};
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
-constexpr std::array<JointTypeInfo, 12> kInfo{{
+constexpr std::array<JointTypeInfo, 13> kInfo{{
     {.name = "fixed"},
     {.name = "slider", .uses_axis = true, .coordinates = kPosition},
     {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
@@ -59,7 +61,7 @@ constexpr std::array<JointTypeInfo, 12> kInfo{{
      .uses_axis = true,
      .uses_axis2 = true,
      .coordinates = kWheel},
-    {.name = "distance", .uses_anchor2 = true, .coordinates = kLength},
+    {.name = "distance", .uses_anchor2 = true, .uses_length = true, .coordinates = kLength},
     {.name = "cone_twist",
      .needs_anchor = true,
      .uses_axis = true,
@@ -81,12 +83,14 @@ constexpr std::array<JointTypeInfo, 12> kInfo{{
      .uses_axis = true,
      .uses_axis2 = true,
      .coordinates = kSixAxes},
+    {.name = "spring", .uses_anchor2 = true, .coordinates = kFreeLength},
 }};
 constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
     &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
     &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::ConeTwistJoint>,
-    &make<joints::PlanarJoint>, &make<joints::GearJoint>,      &make<joints::GenericJoint>};
+    &make<joints::PlanarJoint>, &make<joints::GearJoint>,      &make<joints::GenericJoint>,
+    &make<joints::SpringJoint>};
 
 }  // namespace
 
@@ -98,11 +102,14 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("axis: must be a finite non-zero vector");
   if (t.uses_axis2 && !(def.axis2.allFinite() && def.axis2.norm() > 1e-12))
     throw std::invalid_argument("axis2: must be a finite non-zero vector");
-  if (t.uses_anchor2) {
-    if (def.anchor2 && !def.anchor2->allFinite())
-      throw std::invalid_argument("anchor2: not a finite vector");
+  if (t.uses_anchor2 && def.anchor2 && !def.anchor2->allFinite())
+    throw std::invalid_argument("anchor2: not a finite vector");
+  if (t.uses_length) {
     if (def.length && !(std::isfinite(*def.length) && *def.length > 0.0))
       throw std::invalid_argument("length: must be finite and > 0");
+  } else if (def.length || def.rope) {
+    throw std::invalid_argument(
+        fmt::format("{}: not used by a {} joint", def.length ? "length" : "rope", t.name));
   }
   if (t.uses_ratio && !(std::isfinite(def.ratio) && def.ratio != 0.0))
     throw std::invalid_argument("ratio: must be finite and non-zero");

@@ -2,6 +2,8 @@
 
 #include "math/rotation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -64,6 +66,28 @@ void Cross::addStiffness(const BodyState& b1, const BodyState& b2, double l, Mat
   k.block<3, 3>(3, 9) += d2;
   k.block<3, 3>(9, 3) -= d1;
   k.block<3, 3>(9, 9) -= d2;
+}
+
+PointPair PointPair::capture(const JointDef& def, const BodyState& b1, const BodyState& b2) {
+  const Vec3 p1 = def.anchor.value_or(b1.pose.position);
+  const Vec3 p2 = def.anchor2.value_or(b2.pose.position);
+  const double apart = (p1 - p2).norm();
+  if (!(apart > 1e-9))
+    throw std::invalid_argument(
+        fmt::format("anchor2: must be apart from the point on body 1 at the start ({} m apart; a "
+                    "ball joint joins two points)",
+                    apart));
+  return PointPair{b1.pose.toLocal(p1), b2.pose.toLocal(p2)};
+}
+
+void PointPair::row(const BodyState& b1, const BodyState& b2, Row& r) const {
+  const Vec3 r1 = b1.pose.orientation * point1, r2 = b2.pose.orientation * point2;
+  const Vec3 d = (b1.pose.position + r1) - (b2.pose.position + r2);
+  const double distance = d.norm();
+  const Vec3 n = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitX();
+  r.Ja << n, r1.cross(n);
+  r.Jb << -n, -r2.cross(n);
+  r.phi = distance;
 }
 
 Arms Arms::of(const JointFrames& f, const BodyState& b1, const BodyState& b2) {

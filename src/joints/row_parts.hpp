@@ -66,6 +66,24 @@ struct Cross {
   void addStiffness(const BodyState& b1, const BodyState& b2, double l, Mat12& k) const;
 };
 
+/// Two points, one on each body (distance and spring joints): the distance between them,
+///   C = |d|, d = (p1 + r1) - (p2 + r2), n = d / |d|,  J = [ n, r1 x n | -n, -(r2 x n) ]
+/// (d/dt |d| = n . d', exact).
+struct PointPair {
+  Vec3 point1 = Vec3::Zero();  ///< on body 1, its frame
+  Vec3 point2 = Vec3::Zero();  ///< on body 2, its frame
+
+  /// From JointDef::anchor and anchor2 (default: the bodies' centres of mass); throws
+  /// std::invalid_argument naming `anchor2` unless they are apart at creation.
+  static PointPair capture(const JointDef& def, const BodyState& b1, const BodyState& b2);
+  double distance(const BodyState& b1, const BodyState& b2) const {
+    return (b1.pose.toWorld(point1) - b2.pose.toWorld(point2)).norm();
+  }
+  /// The row of C (phi = |d|). Points that meet have no direction between them: any will do, C
+  /// is at its extreme there.
+  void row(const BodyState& b1, const BodyState& b2, Row& row) const;
+};
+
 /// World-frame lever arms (centre of mass to anchor) and anchor separation of the current state.
 struct Arms {
   Vec3 r1, r2;

@@ -9,6 +9,7 @@
 #include "step/assembly.hpp"
 #include "step/check.hpp"
 #include "step/step.hpp"
+#include "world/applied_loads.hpp"
 
 #include <fmt/format.h>
 
@@ -24,6 +25,8 @@ struct World::Impl {
   step::FaultCheck check;
   // Names to indices: a scene of 64,000 bodies would otherwise spend seconds in duplicate checks.
   std::unordered_map<std::string, int> body_names, joint_names;
+  AppliedLoads loads;
+  std::function<void(World&)> force_callback;
 };
 
 World::World(const WorldSettings& settings)
@@ -45,6 +48,10 @@ BodyId World::createBody(const BodyDef& given) {
       !def.linear_velocity.allFinite() || !def.angular_velocity.allFinite())
     throw std::invalid_argument("pose and velocities must be finite");
   if (def.orientation.norm() < 1e-12) throw std::invalid_argument("orientation: zero quaternion");
+  for (const auto& [field, value] : {std::pair{"linear_damping", def.linear_damping},
+                                     std::pair{"angular_damping", def.angular_damping}})
+    if (!(std::isfinite(value) && value >= 0.0))
+      throw std::invalid_argument(fmt::format("{}: must be finite and >= 0", field));
   if (!def.is_static) {
     if (!(*def.mass > 0.0) || !std::isfinite(*def.mass))
       throw std::invalid_argument("mass: must be finite and > 0");
@@ -134,6 +141,8 @@ void World::step() {
   // The soft step substeps within one pass; the others pass `substeps` times.
   const int substeps =
       settings_.solver.type == SolverType::Soft ? 1 : std::max(1, settings_.solver.substeps);
+  if (impl_->force_callback) impl_->force_callback(*this);
+  impl_->loads.apply(bodies_, time_);
   step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
   impl_->check.begin(bodies_, settings_.gravity);
   try {
@@ -180,6 +189,18 @@ void World::breakOverloadedJoints() {
       breaks_.push_back(JointBreak{JointId{static_cast<int>(i)}, steps_, time_, r});
     }
   }
+}
+
+LoadId World::addLoad(const LoadDef& def) {
+  return impl_->loads.add(def, bodies_);
+}
+
+int World::loadCount() const {
+  return impl_->loads.count();
+}
+
+void World::setForceCallback(std::function<void(World&)> callback) {
+  impl_->force_callback = std::move(callback);
 }
 
 bool World::isAsleep(BodyId id) const {

@@ -1,5 +1,5 @@
-// Signal: a joint target that is a constant or a table in time, interpolated linearly.
-#include <linx/joint.hpp>
+// Signal: a value that is a constant or a table in time, interpolated linearly.
+#include <linx/signal.hpp>
 
 #include <algorithm>
 
@@ -30,6 +30,12 @@ double Signal::rate(double t) const {
   if (i < 0 || i >= static_cast<std::ptrdiff_t>(times.size()) - 1) return 0.0;
   const auto k = static_cast<std::size_t>(i);
   return (values[k + 1] - values[k]) / (times[k + 1] - times[k]);
+}
+
+bool VectorSignal::isZero() const {
+  return std::all_of(components.begin(), components.end(), [](const Signal& s) {
+    return std::all_of(s.values.begin(), s.values.end(), [](double v) { return v == 0.0; });
+  });
 }
 
 }  // namespace linx
