@@ -107,9 +107,13 @@ int check(const RunOptions& options) {
   const auto count = [](std::size_t n, const char* one, const char* many) {
     return fmt::format("{} {}", n, n == 1 ? one : many);
   };
-  fmt::print("{}: ok: {}, {}, timestep {} s, duration {} s ({} steps), solver {}\n", options.scene,
-             count(p.scene.bodies.size(), "body", "bodies"),
-             count(p.scene.joints.size(), "joint", "joints"), p.scene.settings.timestep,
+  // Springs and loads only when the scene has them.
+  std::string extra;
+  if (!p.scene.springs.empty()) extra += ", " + count(p.scene.springs.size(), "spring", "springs");
+  if (!p.scene.loads.empty()) extra += ", " + count(p.scene.loads.size(), "load", "loads");
+  fmt::print("{}: ok: {}, {}{}, timestep {} s, duration {} s ({} steps), solver {}\n",
+             options.scene, count(p.scene.bodies.size(), "body", "bodies"),
+             count(p.scene.joints.size(), "joint", "joints"), extra, p.scene.settings.timestep,
              p.scene.duration, p.steps, linx::solverTypeName(p.scene.settings.solver.type));
   return 0;
 }

@@ -3,6 +3,7 @@
 
 #include <linx/body.hpp>
 #include <linx/joint.hpp>
+#include <linx/loads.hpp>
 #include <linx/world.hpp>
 
 #include <filesystem>
@@ -32,6 +33,12 @@ struct SceneJoint {
   JointDef def;      ///< body ids index Scene::bodies in order
 };
 
+/// A top-level force or torque of a scene file, with its place in the file (for messages).
+struct SceneLoad {
+  std::string field;  ///< "forces[2]", "torques[0]"
+  LoadDef def;
+};
+
 /// The camera of pictures and of the viewer (`view` in a scene file). Fields left out are chosen
 /// from the scene's bounding box when a picture is made (docs/visualization.md, "Camera").
 struct SceneView {
@@ -48,6 +55,9 @@ struct Scene {
   double duration = 1.0;  ///< (s)
   std::vector<BodyDef> bodies;
   std::vector<SceneJoint> joints;
+  /// Top-level springs: spring joints (type "spring"), created after `joints`.
+  std::vector<SceneJoint> springs;
+  std::vector<SceneLoad> loads;  ///< top-level forces and torques
   std::optional<SceneView> view;
 };
 
@@ -55,7 +65,7 @@ struct Scene {
 Scene loadScene(const std::filesystem::path& path);
 /// Parses and validates scene text; `file` names it in messages. Throws SceneError.
 Scene parseScene(std::string_view text, const std::string& file);
-/// Builds the world (bodies in order, then joints). Throws SceneError.
+/// Builds the world (bodies in order, then joints, springs and loads). Throws SceneError.
 World buildWorld(const Scene& scene);
 
 /// The resolved scene of a run as the text of `scene.json` (docs/scene-format.md, "Outputs"):

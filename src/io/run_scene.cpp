@@ -134,9 +134,14 @@ std::string runSceneJson(const Scene& scene, const World& world, int every) {
     j["type"] = joint.type();
     j["body1"] = world.body(def.body1).name();
     j["body2"] = def.body2.isWorld() ? std::string("world") : world.body(def.body2).name();
-    j["anchor1"] = vec(localPoint(world, def.body1, anchor));
-    j["anchor2"] = vec(localPoint(world, def.body2, anchor));
     const JointTypeInfo* info = findJointType(joint.type());
+    // A distance or spring joint joins two points; the others meet at one.
+    const Vec3 anchor2 =
+        info && info->uses_anchor2
+            ? def.anchor2.value_or(def.body2.isWorld() ? anchor : world.body(def.body2).position())
+            : anchor;
+    j["anchor1"] = vec(localPoint(world, def.body1, anchor));
+    j["anchor2"] = vec(localPoint(world, def.body2, anchor2));
     if (info && info->uses_axis) {
       // A universal joint's two arms; otherwise one axis seen from both bodies.
       const Vec3 axis = def.axis.normalized();

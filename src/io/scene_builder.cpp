@@ -1,5 +1,6 @@
 // Builds a World from a validated Scene: bodies in file order (so BodyId{i} is Scene::bodies[i]),
-// then joints. A definition the engine refuses is reported against its place in the file.
+// then joints, springs (spring joints) and standing loads. A definition the engine refuses is
+// reported against its place in the file.
 #include <linx/scene.hpp>
 
 #include <fmt/format.h>
@@ -23,6 +24,20 @@ World buildWorld(const Scene& scene) {
       world.createJoint(scene.joints[i].type, scene.joints[i].def);
     } catch (const std::invalid_argument& e) {
       throw SceneError(scene.file, fmt::format("joints[{}]", i), e.what());
+    }
+  }
+  for (std::size_t i = 0; i < scene.springs.size(); ++i) {
+    try {
+      world.createJoint(scene.springs[i].type, scene.springs[i].def);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.file, fmt::format("springs[{}]", i), e.what());
+    }
+  }
+  for (const SceneLoad& load : scene.loads) {
+    try {
+      world.addLoad(load.def);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.file, load.field, e.what());
     }
   }
   return world;

@@ -187,7 +187,7 @@ class Reader {
     if (!root.is_object())
       fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
     allowOnly(node, {"gravity", "timestep", "duration", "threads", "solver", "contact", "sleep",
-                     "faults", "bodies", "joints", "view"});
+                     "faults", "bodies", "joints", "springs", "forces", "torques", "view"});
 
     Scene scene;
     scene.file = file_;
@@ -234,6 +234,29 @@ class Reader {
                            it->second));
         }
         scene.joints.push_back(std::move(joint));
+      }
+    }
+    if (auto springs = get(node, "springs")) {
+      expectArray(*springs);
+      std::set<std::string> joint_names;
+      for (const SceneJoint& j : scene.joints) joint_names.insert(j.def.name);
+      for (std::size_t i = 0; i < springs->value.size(); ++i) {
+        const Node item{springs->value[i], itemPath(springs->path, i)};
+        SceneJoint joint = spring(item, scene.bodies, body_index);
+        if (!joint_names.insert(joint.def.name).second)
+          fail(
+              childPath(item.path, "name"),
+              fmt::format("duplicate name '{}' (springs share names with joints)", joint.def.name));
+        scene.springs.push_back(std::move(joint));
+      }
+    }
+    for (const bool forces : {true, false}) {
+      const auto list = get(node, forces ? "forces" : "torques");
+      if (!list) continue;
+      expectArray(*list);
+      for (std::size_t i = 0; i < list->value.size(); ++i) {
+        const Node item{list->value[i], itemPath(list->path, i)};
+        scene.loads.push_back(SceneLoad{item.path, load(item, forces, scene.bodies, body_index)});
       }
     }
     return scene;
@@ -653,7 +676,7 @@ class Reader {
 
   BodyDef body(const Node& n) const {
     allowOnly(n, {"name", "mass", "inertia", "position", "orientation", "linear_velocity",
-                  "angular_velocity", "static", "shapes"});
+                  "angular_velocity", "static", "shapes", "linear_damping", "angular_damping"});
     BodyDef b;
     const Node name = require(n, "name");
     b.name = string(name);
@@ -662,6 +685,12 @@ class Reader {
 
     if (auto v = get(n, "static")) b.is_static = boolean(*v);
     if (auto v = get(n, "position")) b.position = vec3(*v);
+    for (std::string_view key : {"linear_damping", "angular_damping"}) {
+      auto v = get(n, key);
+      if (!v) continue;
+      if (b.is_static) fail(v->path, "a static body does not move");
+      (key == "linear_damping" ? b.linear_damping : b.angular_damping) = nonNegative(*v);
+    }
     if (auto v = get(n, "orientation")) b.orientation = orientation(*v);
     for (std::string_view key : {"linear_velocity", "angular_velocity"}) {
       auto v = get(n, key);
@@ -764,24 +793,13 @@ class Reader {
       }
     };
 
-    const auto bodyRef = [&](const Node& ref) {
-      const std::string body = string(ref);
-      if (body == "world") return kWorldBody;
-      const auto it = body_index.find(body);
-      if (it == body_index.end()) {
-        std::vector<std::string_view> names;
-        for (const auto& entry : body_index) names.push_back(entry.first);
-        fail(ref.path, fmt::format("unknown body '{}'{}", body, suggestion(body, names)));
-      }
-      return BodyId{static_cast<int>(it->second)};
-    };
     const Node body1 = require(n, "body1");
-    d.body1 = bodyRef(body1);
+    d.body1 = bodyRef(body1, body_index, true);
     if (d.body1.isWorld()) {
       fail(body1.path, "must be a body, not the world (the world goes in body2, or leave it out)");
     }
     if (auto v = get(n, "body2")) {
-      d.body2 = bodyRef(*v);
+      d.body2 = bodyRef(*v, body_index, true);
       if (d.body2 == d.body1) fail(v->path, "a joint needs two different bodies");
     }
 
@@ -862,6 +880,100 @@ class Reader {
     if (auto v = get(n, "break_force")) d.break_force = positive(*v);
     if (auto v = get(n, "break_torque")) d.break_torque = positive(*v);
     return joint;
+  }
+
+  // A body named in a spring, force or torque.
+  BodyId bodyRef(const Node& ref, const std::map<std::string, std::size_t>& body_index,
+                 bool world_allowed) const {
+    const std::string body = string(ref);
+    if (body == "world") {
+      if (!world_allowed) fail(ref.path, "must be a body, not the world");
+      return kWorldBody;
+    }
+    const auto it = body_index.find(body);
+    if (it == body_index.end()) {
+      std::vector<std::string_view> names;
+      for (const auto& entry : body_index) names.push_back(entry.first);
+      fail(ref.path, fmt::format("unknown body '{}'{}", body, suggestion(body, names)));
+    }
+    return BodyId{static_cast<int>(it->second)};
+  }
+
+  // A top-level spring: a spring joint between two points (docs/scene-format.md, "springs"),
+  // whose shapes still collide.
+  SceneJoint spring(const Node& n, const std::vector<BodyDef>& bodies,
+                    const std::map<std::string, std::size_t>& body_index) const {
+    allowOnly(
+        n, {"name", "body1", "body2", "anchor1", "anchor2", "stiffness", "damping", "rest_length"});
+    SceneJoint joint{"spring", {}};
+    JointDef& d = joint.def;
+    d.name = n.value.contains("name") ? string(require(n, "name")) : n.path;
+    if (d.name.empty()) fail(childPath(n.path, "name"), "must not be empty");
+    d.body1 = bodyRef(require(n, "body1"), body_index, false);
+    if (auto v = get(n, "body2")) {
+      d.body2 = bodyRef(*v, body_index, true);
+      if (d.body2 == d.body1) fail(v->path, "a spring needs two different bodies");
+    }
+    twoPoints(n, bodies, d);
+    d.collide = true;
+    JointSpring s;
+    if (auto v = get(n, "stiffness")) s.stiffness = nonNegative(*v);
+    if (auto v = get(n, "damping")) s.damping = nonNegative(*v);
+    if (!(s.stiffness > 0.0 || s.damping > 0.0))
+      fail(n.path, "needs a stiffness, a damping or both (> 0)");
+    s.rest = (*d.anchor - *d.anchor2).norm();
+    if (auto v = get(n, "rest_length")) s.rest = nonNegative(*v);
+    d.coordinates[0].spring = s;
+    return joint;
+  }
+
+  // A force (at a point) or a torque on a body, constant or in time.
+  LoadDef load(const Node& n, bool force, const std::vector<BodyDef>& bodies,
+               const std::map<std::string, std::size_t>& body_index) const {
+    if (force)
+      allowOnly(n, {"body", "force", "point"});
+    else
+      allowOnly(n, {"body", "torque"});
+    LoadDef load;
+    const Node body = require(n, "body");
+    load.body = bodyRef(body, body_index, false);
+    if (bodies[static_cast<std::size_t>(load.body.index)].is_static)
+      fail(body.path, "a static body does not move");
+    if (force) {
+      load.force = vectorSignal(require(n, "force"));
+      if (auto v = get(n, "point")) load.point = vec3(*v);
+    } else {
+      load.torque = vectorSignal(require(n, "torque"));
+    }
+    return load;
+  }
+
+  // A vector in time: [x, y, z] whose components are numbers or tables (signal), or a table of
+  // vectors {"times": [...], "values": [[x, y, z], ...]}.
+  VectorSignal vectorSignal(const Node& n) const {
+    if (n.value.is_array()) {
+      if (n.value.size() != 3)
+        fail(n.path, fmt::format("expected 3 components, got {}", n.value.size()));
+      std::array<Signal, 3> c;
+      for (std::size_t k = 0; k < 3; ++k) c[k] = signal({n.value[k], itemPath(n.path, k)});
+      return VectorSignal(c);
+    }
+    if (!n.value.is_object())
+      fail(n.path, fmt::format("expected a vector [x, y, z] or a table {{\"times\": [...], "
+                               "\"values\": [[x, y, z], ...]}}, got {}",
+                               describe(n.value)));
+    allowOnly(n, {"times", "values"});
+    const Node times = require(n, "times"), values = require(n, "values");
+    expectArray(values);
+    std::array<json, 3> columns;
+    for (std::size_t i = 0; i < values.value.size(); ++i) {
+      const Vec3 v = vec3({values.value[i], itemPath(values.path, i)});
+      for (std::size_t k = 0; k < 3; ++k) columns[k].push_back(v[static_cast<Eigen::Index>(k)]);
+    }
+    std::array<Signal, 3> c;
+    for (std::size_t k = 0; k < 3; ++k)
+      c[k] = signal({json{{"times", times.value}, {"values", columns[k]}}, n.path});
+    return VectorSignal(c);
   }
 
   // An angle in (0, pi) rad.
