@@ -588,6 +588,79 @@ TEST(Gear, MeshingWheelsShareTheirMomentumByTheRatio) {
   EXPECT_GT(std::abs(q[1]), 2.0 * M_PI);  // past a turn: counted
 }
 
+TEST(RackAndPinion, RowIsTheRateOfItsConstraintAnywhere) {
+  std::mt19937 rng(29);
+  for (int trial = 0; trial < 100; ++trial) {
+    const BodyState c1 = test::randomState(rng), c2 = test::randomState(rng);
+    const JointDef def{.name = "rp",
+                       .body2 = BodyId{1},
+                       .axis = test::randomVec(rng, 1.0),
+                       .axis2 = test::randomVec(rng, 1.0),
+                       .ratio = 0.07};
+    std::unique_ptr<Joint> joint = makeJoint("rack_and_pinion", def, c1, c2);
+    BodyState b1 = c1, b2 = c2;  // the pinion turned by up to 1.5 rad, the rack moved
+    b1.pose.orientation = math::expMap(test::randomVec(rng, 0.85)) * c1.pose.orientation;
+    b2.pose.position += test::randomVec(rng, 1.0);
+    const auto row = [&](const BodyState& s1, const BodyState& s2) {
+      std::vector<Row> rows(1);
+      joint->fill(JointContext{s1, s2, 0.01}, rows);
+      return rows[0];
+    };
+    constexpr double eps = 1e-6;
+    const double rate = (row(advance(b1, eps), advance(b2, eps)).phi -
+                         row(advance(b1, -eps), advance(b2, -eps)).phi) /
+                        (2 * eps);
+    ASSERT_NEAR(rate, jacobian(row(b1, b2)) * velocities(b1, b2), 1e-7) << "trial " << trial;
+  }
+}
+
+TEST(RackAndPinion, FallingRackSpinsThePinionAtTheEffectiveMass) {
+  // A 2 kg rack on a vertical slider meshes with a pinion of pitch radius 0.1 m and inertia
+  // 0.02 kg m^2 on a horizontal axle: the rack falls at a = g m / (m + I / r^2) = g / 2, the pinion
+  // turning s / r. Symplectic Euler from rest: s_n = -a h^2 n (n + 1) / 2.
+  World world(settings(true));
+  constexpr double m = 2.0, inertia = 0.02, r = 0.1, h = 1e-3;
+  BodyDef pinion_def;
+  pinion_def.name = "pinion";
+  pinion_def.mass = 1.0;
+  pinion_def.inertia = Vec3(0.01, inertia, 0.01).asDiagonal();
+  const BodyId pinion = world.createBody(pinion_def);
+  const BodyId rack =
+      world.createBody(test::boxBody("rack", m, Vec3(0.02, 0.02, 0.5), Vec3(r, 0, 0)));
+  world.createJoint(
+      "hinge",
+      JointDef{.name = "axle", .body1 = pinion, .anchor = Vec3::Zero(), .axis = Vec3::UnitY()});
+  world.createJoint("slider", JointDef{.name = "guide", .body1 = rack, .axis = Vec3::UnitZ()});
+  // At x = r, a turn about +y moves the pitch point by w x r = (0, w, 0) x (r, 0, 0) = -w r z:
+  // the rack travels along -z by r per radian.
+  const JointId mesh = world.createJoint("rack_and_pinion", JointDef{.name = "mesh",
+                                                                     .body1 = pinion,
+                                                                     .body2 = rack,
+                                                                     .axis = Vec3::UnitY(),
+                                                                     .axis2 = -Vec3::UnitZ(),
+                                                                     .ratio = r});
+  const double a = 9.81 * m / (m + inertia / (r * r));
+  double worst = 0.0;
+  for (int n = 1; n <= 1000; ++n) {
+    world.step();
+    const double s = -0.5 * a * h * h * n * (n + 1.0);
+    worst = std::max(worst, std::abs(world.body(rack).position().z() - s));
+  }
+  const JointCoordinates q = world.jointCoordinates(mesh);
+  std::printf("rack fell %.9f m (closed form %.9f), worst %.2e m; pinion %.9f rad, travel %.9f m\n",
+              -world.body(rack).position().z(), 0.5 * a * h * h * 1000 * 1001, worst, q[0], q[1]);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_NEAR(q[1], r * q[0], 1e-12);
+  EXPECT_NEAR(q[1], -world.body(rack).position().z(), 1e-12);
+  EXPECT_GT(q[0], 2.0 * M_PI);  // past a turn: counted
+  EXPECT_THROW(world.createJoint("rack_and_pinion", JointDef{.name = "x",
+                                                             .body1 = pinion,
+                                                             .axis = Vec3::UnitY(),
+                                                             .axis2 = Vec3::UnitZ(),
+                                                             .ratio = r}),
+               std::invalid_argument);
+}
+
 TEST(Locked, ALockedHingeAngleHoldsLikeAWeld) {
   World world(settings(true));
   const BodyId arm =

@@ -681,7 +681,7 @@ TEST(SceneError, Joints) {
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
        "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
-       "hinge2, distance, cone_twist, planar, gear, generic or spring)"},
+       "hinge2, distance, cone_twist, planar, gear, generic, spring or rack_and_pinion)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],

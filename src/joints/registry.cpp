@@ -9,6 +9,7 @@
 #include "joints/hinge2_joint.hpp"
 #include "joints/hinge_joint.hpp"
 #include "joints/planar_joint.hpp"
+#include "joints/rack_pinion_joint.hpp"
 #include "joints/slider_joint.hpp"
 #include "joints/spring_joint.hpp"
 #include "joints/universal_joint.hpp"
@@ -43,9 +44,10 @@ constexpr CoordinateInfo kPlane[] = {{"x", true}, {"y", true}, {"angle", false}}
 constexpr CoordinateInfo kGearAngles[] = {{"angle1", false, false}, {"angle2", false, false}};
 constexpr CoordinateInfo kLength[] = {{"length", true, false}};  // reported, not driven
 constexpr CoordinateInfo kFreeLength[] = {{"length", true}};
+constexpr CoordinateInfo kRackPinion[] = {{"angle", false, false}, {"position", true, false}};
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
 
-constexpr std::array<JointTypeInfo, 13> kInfo{{
+constexpr std::array<JointTypeInfo, 14> kInfo{{
     {.name = "fixed"},
     {.name = "slider", .uses_axis = true, .coordinates = kPosition},
     {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
@@ -84,13 +86,18 @@ constexpr std::array<JointTypeInfo, 13> kInfo{{
      .uses_axis2 = true,
      .coordinates = kSixAxes},
     {.name = "spring", .uses_anchor2 = true, .coordinates = kFreeLength},
+    {.name = "rack_and_pinion",
+     .uses_axis = true,
+     .uses_axis2 = true,
+     .uses_ratio = true,
+     .coordinates = kRackPinion},
 }};
 constexpr std::array<Maker, kInfo.size()> kMake{
     &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
     &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
     &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::ConeTwistJoint>,
     &make<joints::PlanarJoint>, &make<joints::GearJoint>,      &make<joints::GenericJoint>,
-    &make<joints::SpringJoint>};
+    &make<joints::SpringJoint>, &make<joints::RackPinionJoint>};
 
 }  // namespace
 
