@@ -275,7 +275,7 @@ TEST(UniversalJoint, ArmsMustBePerpendicular) {
                                         .axis2 = Vec3(1, 1, 0)});
     ADD_FAILURE() << "accepted arms 45 degrees apart";
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "axis2: must be perpendicular to axis1 (the cross's two arms)");
+    EXPECT_STREQ(e.what(), "axis2: must be perpendicular to axis1 (they are 45 deg apart)");
   }
 }
 

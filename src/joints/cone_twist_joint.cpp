@@ -21,9 +21,6 @@ namespace linx::joints {
 
 ConeTwistJoint::ConeTwistJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {
-  const Vec3 a = def.axis.normalized();
-  if (std::abs(a.dot(def.axis2.normalized())) > 1e-6)
-    throw std::invalid_argument("axis2: must be perpendicular to axis1 (the cone's first swing)");
   // The cone's u along axis2 (in body 2), v = a x u.
   frames_.tangent1 = b2.pose.orientation.conjugate() * def.axis2.normalized();
   frames_.tangent2 = frames_.axis2.cross(frames_.tangent1);

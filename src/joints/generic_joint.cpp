@@ -30,8 +30,6 @@ Mat3 frameOf(const Vec3& x_world, const Vec3& y_world) {
 
 GenericJoint::GenericJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def), frames_(JointFrames::capture(def, b1, b2)) {
-  if (std::abs(def.axis.normalized().dot(def.axis2.normalized())) > 1e-6)
-    throw std::invalid_argument("axis2: must be perpendicular to axis1 (the joint's x and y)");
   const Mat3 f = frameOf(def.axis, def.axis2);
   axes1_ = b1.pose.orientation.conjugate().toRotationMatrix() * f;
   axes2_ = b2.pose.orientation.conjugate().toRotationMatrix() * f;

@@ -23,8 +23,6 @@ JointDef normalFrames(JointDef def) {
 
 PlanarJoint::PlanarJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
     : Joint(def) {
-  if (std::abs(def.axis.normalized().dot(def.axis2.normalized())) > 1e-6)
-    throw std::invalid_argument("axis2: must be perpendicular to axis1 (the plane's x and y)");
   frames_ = JointFrames::capture(normalFrames(def), b1, b2);
   frames_.tangent1 = b2.pose.orientation.conjugate() * def.axis.normalized();
   frames_.tangent2 = frames_.axis2.cross(frames_.tangent1);

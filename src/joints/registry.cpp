@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -109,6 +110,14 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("axis: must be a finite non-zero vector");
   if (t.uses_axis2 && !(def.axis2.allFinite() && def.axis2.norm() > 1e-12))
     throw std::invalid_argument("axis2: must be a finite non-zero vector");
+  // Two axes are a frame's (a cross's arms, a plane's x and y), except a gear's two axles.
+  if (t.uses_axis2 && !t.uses_ratio) {
+    const double cosine = def.axis.normalized().dot(def.axis2.normalized());
+    if (std::abs(cosine) > 1e-6)
+      throw std::invalid_argument(
+          fmt::format("axis2: must be perpendicular to axis1 (they are {:.6g} deg apart)",
+                      std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI));
+  }
   if (t.uses_anchor2 && def.anchor2 && !def.anchor2->allFinite())
     throw std::invalid_argument("anchor2: not a finite vector");
   if (t.uses_length) {

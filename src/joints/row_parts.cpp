@@ -34,8 +34,6 @@ JointFrames JointFrames::capture(const JointDef& def, const BodyState& b1, const
 Cross Cross::capture(const Vec3& a1_world, const Vec3& a2_world, const BodyState& b1,
                      const BodyState& b2) {
   const Vec3 a1 = a1_world.normalized(), a2 = a2_world.normalized();
-  if (std::abs(a1.dot(a2)) > 1e-6)
-    throw std::invalid_argument("axis2: must be perpendicular to axis1 (the cross's two arms)");
   Cross c;
   c.arm1 = b1.pose.orientation.conjugate() * a1;
   c.arm2 = b2.pose.orientation.conjugate() * a2;

@@ -52,8 +52,7 @@ struct Cross {
   Vec3 start1 = Vec3::UnitY();  ///< a2 at creation, in body 1's frame
   Vec3 start2 = Vec3::UnitZ();  ///< a1 at creation, in body 2's frame
 
-  /// From the world-frame arms at creation; throws std::invalid_argument naming `axis2` unless
-  /// they are perpendicular.
+  /// From the world-frame arms at creation, perpendicular (joints::validate checks them).
   static Cross capture(const Vec3& a1, const Vec3& a2, const BodyState& b1, const BodyState& b2);
   Vec3 a1(const BodyState& b1) const { return b1.pose.orientation * arm1; }
   Vec3 a2(const BodyState& b2) const { return b2.pose.orientation * arm2; }
