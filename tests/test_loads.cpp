@@ -171,7 +171,7 @@ TEST(StandingLoads, RefusedWithTheFieldNamed) {
     }
     return "accepted";
   };
-  EXPECT_EQ(message(LoadDef{.body = ground}), "body: 'ground' is static: nothing moves it");
+  EXPECT_EQ(message(LoadDef{.body = ground}), "body: 'ground' is static: no force moves it");
   EXPECT_EQ(message(LoadDef{.body = BodyId{7}}), "body: must be a body of this world");
   EXPECT_EQ(
       message(LoadDef{.body = b, .force = VectorSignal({0.0, Signal({1.0, 0.5}, {0, 0}), 0.0})}),

@@ -28,6 +28,11 @@ struct BodyDef {
   Vec3 linear_velocity = Vec3::Zero();         ///< of the centre of mass, world frame (m/s)
   Vec3 angular_velocity = Vec3::Zero();        ///< world frame (rad/s)
   bool is_static = false;                      ///< infinite mass: never moves
+  /// Infinite mass, moving at its own velocity (linear_velocity, angular_velocity; change it
+  /// between steps with Body::setLinearVelocity): no force, joint or contact changes it, and it
+  /// pushes and carries the dynamic bodies it touches (a conveyor, a lift, a moving platform). It
+  /// needs no mass; not static as well.
+  bool kinematic = false;
   /// Damping of the body's motion (1/s), >= 0: dv/dt = -linear_damping v, dw/dt = -angular_damping
   /// w, integrated implicitly (v / (1 + h c) each step: stable at any value). Air drag, or a body
   /// in a fluid, in a simple form; 0 (the default) for none.
@@ -50,6 +55,9 @@ class Body {
 
   const std::string& name() const { return name_; }
   bool isStatic() const { return is_static_; }
+  bool isKinematic() const { return is_kinematic_; }
+  /// Moved by forces, joints and contacts: neither static nor kinematic.
+  bool isDynamic() const { return !is_static_ && !is_kinematic_; }
 
   double mass() const { return mass_; }
   double inverseMass() const { return inv_mass_; }
@@ -93,6 +101,7 @@ class Body {
  private:
   std::string name_;
   bool is_static_ = false;
+  bool is_kinematic_ = false;
   double mass_ = 0, inv_mass_ = 0;
   Mat3 inertia_body_, inv_inertia_body_;
   Pose pose_;

@@ -150,7 +150,7 @@ Mat3 uniformShapesInertia(const BodyDef& body, double mass) {
 }
 
 void completeMassProperties(BodyDef& body) {
-  if (body.is_static) return;
+  if (body.is_static || body.kinematic) return;
   const bool densities = std::any_of(body.shapes.begin(), body.shapes.end(), [](const ShapeDef& s) {
     return isSolid(s.type) && s.density.has_value();
   });

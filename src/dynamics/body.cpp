@@ -7,13 +7,14 @@ namespace linx {
 Body::Body(const BodyDef& def)
     : name_(def.name),
       is_static_(def.is_static),
+      is_kinematic_(def.kinematic && !def.is_static),
       pose_{def.position, def.orientation.normalized()},
       v_(def.is_static ? Vec3::Zero() : def.linear_velocity),
       w_(def.is_static ? Vec3::Zero() : def.angular_velocity),
       shapes_(def.shapes),
       linear_damping_(def.linear_damping),
       angular_damping_(def.angular_damping) {
-  if (is_static_) {
+  if (is_static_ || is_kinematic_) {  // infinite mass
     mass_ = 0.0;
     inv_mass_ = 0.0;
     inertia_body_.setZero();

@@ -24,7 +24,7 @@ Vec3 gyroscopicStep(const Mat3& inertia, const Vec3& w0, double h) {
 }
 
 void integrateVelocity(Body& body, const Vec3& gravity, double h) {
-  if (body.isStatic()) return;
+  if (!body.isDynamic()) return;  // a kinematic body keeps its own velocity
   // Damping implicitly: v+ = (v + h a) / (1 + h c).
   body.setLinearVelocity(
       (body.linearVelocity() + h * (gravity + body.inverseMass() * body.force())) /
@@ -47,7 +47,7 @@ void integratePosition(Body& body, double h) {
 }
 
 void displace(Body& body, const Vec3& dx, const Vec3& dtheta) {
-  if (body.isStatic()) return;
+  if (!body.isDynamic()) return;
   Pose pose = body.pose();
   pose.position += dx;
   pose.orientation = math::integrate(pose.orientation, dtheta, 1.0);

@@ -676,7 +676,8 @@ class Reader {
 
   BodyDef body(const Node& n) const {
     allowOnly(n, {"name", "mass", "inertia", "position", "orientation", "linear_velocity",
-                  "angular_velocity", "static", "shapes", "linear_damping", "angular_damping"});
+                  "angular_velocity", "static", "kinematic", "shapes", "linear_damping",
+                  "angular_damping"});
     BodyDef b;
     const Node name = require(n, "name");
     b.name = string(name);
@@ -684,6 +685,14 @@ class Reader {
     if (b.name == "world") fail(name.path, "'world' is reserved for the fixed world frame");
 
     if (auto v = get(n, "static")) b.is_static = boolean(*v);
+    if (auto v = get(n, "kinematic")) {
+      b.kinematic = boolean(*v);
+      if (b.kinematic && b.is_static) fail(v->path, "a body is static or kinematic, not both");
+      for (std::string_view key : {"mass", "inertia", "linear_damping", "angular_damping"})
+        if (b.kinematic && n.value.contains(key))
+          fail(childPath(n.path, key),
+               "a kinematic body has infinite mass and moves at its given velocity");
+    }
     if (auto v = get(n, "position")) b.position = vec3(*v);
     for (std::string_view key : {"linear_damping", "angular_damping"}) {
       auto v = get(n, key);
@@ -718,6 +727,13 @@ class Reader {
     if (mass) b.mass = positive(*mass);
     if (given_inertia) b.inertia = inertia(*given_inertia);
     if (b.is_static) return b;
+    if (b.kinematic) {
+      for (std::size_t k = 0; k < b.shapes.size(); ++k)
+        if (b.shapes[k].density)
+          fail(childPath(itemPath(childPath(n.path, "shapes"), k), "density"),
+               "a kinematic body has no mass (infinite)");
+      return b;
+    }
     // What completeMassProperties would refuse, named by its place in the file.
     const bool solid = std::any_of(b.shapes.begin(), b.shapes.end(),
                                    [](const ShapeDef& s) { return isSolid(s.type); });

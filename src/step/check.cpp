@@ -59,7 +59,7 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
   const double rise = produced_ - lowest_;
   double allowance = 0.0;  // position correction may lift every body or push it to a speed
   for (const Body& b : bodies)
-    if (!b.isStatic())
+    if (b.isDynamic())
       allowance +=
           b.mass() * (gravity.norm() * settings.height + 0.5 * settings.speed * settings.speed);
   const double bound = settings.kinetic_fraction * kinetic_peak_ + allowance;
@@ -67,7 +67,7 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
   int fastest = -1;
   double most = -1.0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
-    if (bodies[i].isStatic()) continue;
+    if (!bodies[i].isDynamic()) continue;
     const double k = kineticEnergy(bodies[i]);
     if (k > most) {
       most = k;

@@ -228,7 +228,7 @@ void ContactStage::collidePair(std::span<const Body> bodies, const ContactSettin
   if (body_i == body_j) return;
   const Body& bi = bodies[static_cast<std::size_t>(body_i)];
   const Body& bj = bodies[static_cast<std::size_t>(body_j)];
-  if (bi.isStatic() && bj.isStatic()) return;
+  if (!bi.isDynamic() && !bj.isDynamic()) return;  // nothing can respond
   const int local_i = i - first_shape_[static_cast<std::size_t>(body_i)];
   const int local_j = j - first_shape_[static_cast<std::size_t>(body_j)];
   const ShapeDef& si = bi.shapes()[static_cast<std::size_t>(local_i)];

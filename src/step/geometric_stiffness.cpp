@@ -42,7 +42,7 @@ void GeometricStiffness::measure(std::span<const std::unique_ptr<Joint>> joints,
     Vec6& k = measured_[i];
     if (k.isZero(0)) continue;
     const Body& body = bodies[i];
-    if (body.isStatic()) {
+    if (!body.isDynamic()) {
       k.setZero();
       continue;
     }

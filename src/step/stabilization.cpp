@@ -143,7 +143,7 @@ double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
                               int iterations, std::span<const std::uint8_t> frozen,
                               const GeometricStiffness& stiffness, double time) {
   const auto still = [&](std::size_t i) {
-    return bodies[i].isStatic() || (!frozen.empty() && frozen[i]);
+    return !bodies[i].isDynamic() || (!frozen.empty() && frozen[i]);
   };
   double err = 0.0, last = 0.0, factored_err = 0.0;
   for (int it = 0; it < iterations; ++it) {

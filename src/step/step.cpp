@@ -29,12 +29,14 @@ bool awake(const State& state, std::size_t body) {
 // --- the stages, in the order pass() runs them ---------------------------------------------------
 
 /// wake: a sleeping body that was given a velocity or a load since the last pass wakes, with the
-/// bodies it touched (its island follows at the islands stage).
+/// bodies it touched (its island follows at the islands stage); a moving kinematic body wakes the
+/// bodies it touched.
 void wakeDisturbed(const Scene& scene, State& state) {
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const Body& b = scene.bodies[i];
-    if (!awake(state, i) && (!b.linearVelocity().isZero(0) || !b.angularVelocity().isZero(0) ||
-                             !b.force().isZero(0) || !b.torque().isZero(0)))
+    const bool moves = !b.linearVelocity().isZero(0) || !b.angularVelocity().isZero(0);
+    if ((!awake(state, i) && (moves || !b.force().isZero(0) || !b.torque().isZero(0))) ||
+        (b.isKinematic() && moves))
       wakeWithNeighbours(scene.bodies, state, static_cast<int>(i));
   }
 }
@@ -92,7 +94,7 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
   rowLinks(state.rows.rows, state.links);
   const std::size_t n = scene.bodies.size();
   state.movable.resize(n);
-  for (std::size_t i = 0; i < n; ++i) state.movable[i] = !scene.bodies[i].isStatic();
+  for (std::size_t i = 0; i < n; ++i) state.movable[i] = scene.bodies[i].isDynamic();
   state.islands.build(static_cast<int>(n), state.movable, state.links);
   if (!scene.settings.sleep.enabled) {
     for (std::size_t i = 0; i < n; ++i)
@@ -199,7 +201,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   const std::span<solver::SoftSolver::Body> bodies = solver.bodies();
   state.moving.resize(scene.bodies.size());
   for (std::size_t i = 0; i < scene.bodies.size(); ++i)
-    state.moving[i] = !scene.bodies[i].isStatic() && awake(state, i);
+    state.moving[i] = scene.bodies[i].isDynamic() && awake(state, i);
   const auto moving = [&](std::size_t i) { return state.moving[i] != 0; };
   SubstepJoints& joints = state.substep_joints;
   SolverReport joint_report;
@@ -226,7 +228,8 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     if (!joints.empty()) joints.solve(bodies, true, settings, h, scene.threads);
     toBodies();
     eachBody(scene, [&](std::size_t i) {
-      if (moving(i)) dynamics::integratePosition(scene.bodies[i], h);
+      if (moving(i) || scene.bodies[i].isKinematic())
+        dynamics::integratePosition(scene.bodies[i], h);
     });
     solver.move(h);
     solver.sweep(false);
@@ -319,6 +322,18 @@ void sleep(const Scene& scene, State& state, double h) {
   for (std::size_t k = state.rows.joint_rows; k < state.rows.rows.size(); ++k) {
     const int island = state.island_work.row_island[k];
     if (island >= 0) state.may_sleep[static_cast<std::size_t>(island)] = 1;
+  }
+  // Nor may an island that a moving kinematic body touches or holds: it would stay behind.
+  const auto movingKinematic = [&](int body) {
+    if (body < 0) return false;
+    const Body& b = scene.bodies[static_cast<std::size_t>(body)];
+    return b.isKinematic() && !(b.linearVelocity().isZero(0.0) && b.angularVelocity().isZero(0.0));
+  };
+  for (std::size_t k = 0; k < state.rows.rows.size(); ++k) {
+    const Row& r = state.rows.rows[k];
+    const int island = state.island_work.row_island[k];
+    if (island >= 0 && (movingKinematic(r.body_a) || movingKinematic(r.body_b)))
+      state.may_sleep[static_cast<std::size_t>(island)] = 0;
   }
   state.sleep.update(state.islands, scene.bodies, h, settings, state.may_sleep);
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {

@@ -13,8 +13,9 @@ LoadId AppliedLoads::add(const LoadDef& def, std::span<const Body> bodies) {
   if (def.body.isWorld() || def.body.index >= static_cast<int>(bodies.size()))
     throw std::invalid_argument("body: must be a body of this world");
   const Body& body = bodies[static_cast<std::size_t>(def.body.index)];
-  if (body.isStatic())
-    throw std::invalid_argument(fmt::format("body: '{}' is static: nothing moves it", body.name()));
+  if (!body.isDynamic())
+    throw std::invalid_argument(fmt::format("body: '{}' is {}: no force moves it", body.name(),
+                                            body.isStatic() ? "static" : "kinematic"));
   if (def.point && !def.point->allFinite()) throw std::invalid_argument("point: not finite");
   for (const auto& [name, signal] :
        {std::pair{"force", &def.force}, std::pair{"torque", &def.torque}})

@@ -20,6 +20,30 @@
 
 namespace linx {
 
+namespace {
+
+/// Whether something drove the world over the last step, making energy that is not the solver's:
+/// motors, servos, prescribed motion, moving kinematic bodies. (A spring's energy is not counted
+/// in the fault check's.)
+bool driven(std::span<const Row> rows, std::span<const std::unique_ptr<Joint>> joints,
+            std::span<const Body> bodies) {
+  const auto drive = [](const Row& r) {
+    return r.kind == RowKind::Motor || r.kind == RowKind::Drive;
+  };
+  const auto prescribed = [](const std::unique_ptr<Joint>& j) {
+    const auto& c = j->def().coordinates;
+    return std::any_of(c.begin(), c.end(), [](const CoordinateDef& d) { return d.prescribed; });
+  };
+  const auto moving = [](const Body& b) {
+    return b.isKinematic() && !(b.linearVelocity().isZero(0.0) && b.angularVelocity().isZero(0.0));
+  };
+  return std::any_of(rows.begin(), rows.end(), drive) ||
+         std::any_of(joints.begin(), joints.end(), prescribed) ||
+         std::any_of(bodies.begin(), bodies.end(), moving);
+}
+
+}  // namespace
+
 struct World::Impl {
   step::State step;
   step::FaultCheck check;
@@ -40,6 +64,10 @@ BodyId World::createBody(const BodyDef& given) {
   if (findBody(given.name))
     throw std::invalid_argument(fmt::format("duplicate body name '{}'", given.name));
   // A mass given is checked before anything is made from it (an inertia filled to it).
+  if (given.is_static && given.kinematic)
+    throw std::invalid_argument("kinematic: a body is static or kinematic, not both");
+  if (given.kinematic && (given.mass || given.inertia))
+    throw std::invalid_argument("mass: a kinematic body has infinite mass: give it none");
   if (!given.is_static && given.mass && !(*given.mass > 0.0 && std::isfinite(*given.mass)))
     throw std::invalid_argument("mass: must be finite and > 0");
   BodyDef def = given;
@@ -52,7 +80,7 @@ BodyId World::createBody(const BodyDef& given) {
                                      std::pair{"angular_damping", def.angular_damping}})
     if (!(std::isfinite(value) && value >= 0.0))
       throw std::invalid_argument(fmt::format("{}: must be finite and >= 0", field));
-  if (!def.is_static) {
+  if (!def.is_static && !def.kinematic) {
     if (!(*def.mass > 0.0) || !std::isfinite(*def.mass))
       throw std::invalid_argument("mass: must be finite and > 0");
     const Mat3 sym = 0.5 * (*def.inertia + def.inertia->transpose());
@@ -66,6 +94,7 @@ BodyId World::createBody(const BodyDef& given) {
           fmt::format("shapes[{}] ({}): {}", k, shapeTypeName(s.type), what));
     };
     if (isStaticOnly(s.type) && !def.is_static) throw bad("only a static body may carry it");
+    if (def.kinematic && s.density) throw bad("density: a kinematic body has no mass");
     if (!(s.friction >= 0.0) || !std::isfinite(s.friction)) throw bad("friction: must be >= 0");
     if (!(s.restitution >= 0.0 && s.restitution <= 1.0))
       throw bad("restitution: must be in [0, 1]");
@@ -164,15 +193,7 @@ void World::step() {
   }
   time_ = clock_origin_ + static_cast<double>(++clock_steps_) * h;
   const auto& rows = impl_->step.rows.rows;
-  // Motors, servos and prescribed motion drive; a spring's energy is not counted in the check's.
-  const bool motors =
-      std::any_of(
-          rows.begin(), rows.end(),
-          [](const Row& r) { return r.kind == RowKind::Motor || r.kind == RowKind::Drive; }) ||
-      std::any_of(joints_.begin(), joints_.end(), [](const auto& j) {
-        const auto& c = j->def().coordinates;
-        return std::any_of(c.begin(), c.end(), [](const CoordinateDef& d) { return d.prescribed; });
-      });
+  const bool motors = driven(rows, joints_, bodies_);
   impl_->check.end(bodies_, settings_.gravity, faults, motors, steps_, time_);
   breakOverloadedJoints();
 }
