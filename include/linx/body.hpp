@@ -3,6 +3,7 @@
 #pragma once
 
 #include <linx/shape.hpp>
+#include <linx/signal.hpp>
 #include <linx/types.hpp>
 
 #include <optional>
@@ -33,6 +34,10 @@ struct BodyDef {
   /// pushes and carries the dynamic bodies it touches (a conveyor, a lift, a moving platform). It
   /// needs no mass; not static as well.
   bool kinematic = false;
+  /// A kinematic body's path: where its centre of mass is in time (m, world frame); each step takes
+  /// it to the path's point at the step's end (its linear velocity is set to get there). It should
+  /// start on the path's point at time 0.
+  std::optional<VectorSignal> path = std::nullopt;
   /// Damping of the body's motion (1/s), >= 0: dv/dt = -linear_damping v, dw/dt = -angular_damping
   /// w, integrated implicitly (v / (1 + h c) each step: stable at any value). Air drag, or a body
   /// in a fluid, in a simple form; 0 (the default) for none.

@@ -676,7 +676,7 @@ class Reader {
 
   BodyDef body(const Node& n) const {
     allowOnly(n, {"name", "mass", "inertia", "position", "orientation", "linear_velocity",
-                  "angular_velocity", "static", "kinematic", "shapes", "linear_damping",
+                  "angular_velocity", "static", "kinematic", "path", "shapes", "linear_damping",
                   "angular_damping"});
     BodyDef b;
     const Node name = require(n, "name");
@@ -685,6 +685,13 @@ class Reader {
     if (b.name == "world") fail(name.path, "'world' is reserved for the fixed world frame");
 
     if (auto v = get(n, "static")) b.is_static = boolean(*v);
+    if (auto v = get(n, "path")) {
+      if (!(n.value.contains("kinematic") && n.value["kinematic"] == true))
+        fail(v->path, "only a kinematic body follows a path (\"kinematic\": true)");
+      if (n.value.contains("linear_velocity"))
+        fail(childPath(n.path, "linear_velocity"), "a body on a path takes its velocity from it");
+      b.path = vectorSignal(*v);
+    }
     if (auto v = get(n, "kinematic")) {
       b.kinematic = boolean(*v);
       if (b.kinematic && b.is_static) fail(v->path, "a body is static or kinematic, not both");

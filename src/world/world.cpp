@@ -5,6 +5,7 @@
 #include <linx/mass_properties.hpp>
 
 #include "dynamics/energy.hpp"
+#include "joints/validation.hpp"
 #include "parallel/parallel_for.hpp"
 #include "step/assembly.hpp"
 #include "step/check.hpp"
@@ -50,6 +51,7 @@ struct World::Impl {
   // Names to indices: a scene of 64,000 bodies would otherwise spend seconds in duplicate checks.
   std::unordered_map<std::string, int> body_names, joint_names;
   AppliedLoads loads;
+  std::vector<std::pair<int, VectorSignal>> paths;  // kinematic bodies' paths
   std::function<void(World&)> force_callback;
 };
 
@@ -66,6 +68,12 @@ BodyId World::createBody(const BodyDef& given) {
   // A mass given is checked before anything is made from it (an inertia filled to it).
   if (given.is_static && given.kinematic)
     throw std::invalid_argument("kinematic: a body is static or kinematic, not both");
+  if (given.path && !given.kinematic)
+    throw std::invalid_argument("path: only a kinematic body follows a path");
+  if (given.path)
+    for (int k = 0; k < 3; ++k)
+      joints::validateSignal(given.path->components[static_cast<std::size_t>(k)],
+                             fmt::format("path[{}]", k));
   if (given.kinematic && (given.mass || given.inertia))
     throw std::invalid_argument("mass: a kinematic body has infinite mass: give it none");
   if (!given.is_static && given.mass && !(*given.mass > 0.0 && std::isfinite(*given.mass)))
@@ -106,6 +114,7 @@ BodyId World::createBody(const BodyDef& given) {
   impl_->step.contact.addBody(body);  // prepares hulls and meshes; throws for bad ones
   bodies_.push_back(std::move(body));
   impl_->body_names.emplace(def.name, bodyCount() - 1);
+  if (def.path) impl_->paths.emplace_back(bodyCount() - 1, *def.path);
   impl_->step.sleep.resize(bodyCount());
   return BodyId{bodyCount() - 1};
 }
@@ -170,6 +179,9 @@ void World::step() {
   // The soft step substeps within one pass; the others pass `substeps` times.
   const int substeps =
       settings_.solver.type == SolverType::Soft ? 1 : std::max(1, settings_.solver.substeps);
+  for (const auto& [body, path] : impl_->paths)  // the velocity that reaches the path at t + h
+    bodies_[static_cast<std::size_t>(body)].setLinearVelocity(
+        (path.at(time_ + h) - bodies_[static_cast<std::size_t>(body)].position()) / h);
   if (impl_->force_callback) impl_->force_callback(*this);
   impl_->loads.apply(bodies_, time_);
   step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
