@@ -79,6 +79,14 @@ struct CoordinateDef {
   /// exactly, by whatever force it takes (an equality row: each step ends on the signal's value).
   /// A prescribed coordinate takes nothing else; with a table, it starts on the first value.
   std::optional<Signal> prescribed = std::nullopt;
+  /// The coordinate's value where the bodies are when the joint is made (m or rad): the model is
+  /// built at this value, and the coordinate, its limits, targets, spring rest and prescribed
+  /// table all count from the zero it implies (MJCF's `ref`). 0: the creation pose is the zero.
+  double reference = 0.0;
+  /// Where the coordinate starts (m or rad, with the reference): the scene builder (or
+  /// World::setJointCoordinate) moves body1's side of the mechanism there once every joint is
+  /// made, so that a model built straight starts bent. None: where it was built.
+  std::optional<double> initial = std::nullopt;
 
   bool empty() const {
     return !limits && !motor && !spring && friction == 0.0 && !locked && !prescribed;

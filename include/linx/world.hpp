@@ -170,6 +170,13 @@ class World {
   /// The joint's coordinates (hinge angle in rad, slider position in m, ...: Joint::coordinates),
   /// zero at creation.
   JointCoordinates jointCoordinates(JointId id) const;
+  /// Moves body1's side of the mechanism (body1 and every body joined to it other than through
+  /// this joint, rigidly) so that free coordinate `coordinate` of the joint reads `value` (with
+  /// its reference) and the joint's other coordinates keep theirs: a model built straight, started
+  /// bent (CoordinateDef::initial). Velocities turn with the bodies. Throws std::invalid_argument
+  /// if body1's side reaches body2 or the world another way (a closed loop: it cannot move
+  /// alone), or the coordinate is not reached (out of the joint's range).
+  void setJointCoordinate(JointId id, int coordinate, double value);
   /// The joint's largest position error (m or rad); zero for a disabled joint.
   double jointError(JointId id) const;
   /// What the joint applied to its body1 over the last step (world frame): the force and the

@@ -33,6 +33,20 @@ World buildWorld(const Scene& scene) {
       throw SceneError(scene.file, fmt::format("springs[{}]", i), e.what());
     }
   }
+  // Coordinates that start elsewhere than where the model was built: once every joint is made,
+  // so that each moves its whole side of the mechanism.
+  for (std::size_t i = 0; i < scene.joints.size(); ++i) {
+    const auto& coordinates = scene.joints[i].def.coordinates;
+    for (std::size_t c = 0; c < coordinates.size(); ++c) {
+      if (!coordinates[c].initial) continue;
+      try {
+        world.setJointCoordinate(JointId{static_cast<int>(i)}, static_cast<int>(c),
+                                 *coordinates[c].initial);
+      } catch (const std::invalid_argument& e) {
+        throw SceneError(scene.file, fmt::format("joints[{}]", i), e.what());
+      }
+    }
+  }
   for (const SceneLoad& load : scene.loads) {
     try {
       world.addLoad(load.def);

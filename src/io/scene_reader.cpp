@@ -37,8 +37,8 @@ SceneError::SceneError(std::string file, std::string field, std::string problem)
 namespace {
 
 // What acts on a joint's free coordinate (CoordinateDef).
-constexpr std::string_view kCoordinateFields[] = {"limits",   "motor",  "spring",
-                                                  "friction", "locked", "prescribed"};
+constexpr std::string_view kCoordinateFields[] = {"limits", "motor",      "spring",    "friction",
+                                                  "locked", "prescribed", "reference", "initial"};
 
 using json = nlohmann::json;
 
@@ -1036,6 +1036,11 @@ class Reader {
       for (std::string_view key : {"limits", "motor", "spring", "friction", "prescribed"})
         if (c.locked && n.value.contains(key))
           fail(childPath(n.path, key), "a locked coordinate takes nothing else");
+    }
+    if (auto v = get(n, "reference")) c.reference = number(*v);
+    if (auto v = get(n, "initial")) {
+      c.initial = number(*v);
+      if (c.locked) fail(v->path, "a locked coordinate stays where it was made");
     }
     if (auto v = get(n, "prescribed")) {
       c.prescribed = signal(*v);

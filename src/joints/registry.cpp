@@ -147,7 +147,7 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
   for (int i = 0; i < kMaxCoordinates; ++i) {
     const CoordinateDef& c = def.coordinates[static_cast<std::size_t>(i)];
     if (i >= t.freeCoordinates()) {
-      if (c.empty())
+      if (c.empty() && c.reference == 0.0 && !c.initial)
         continue;
       else if (t.freeCoordinates() == 0)
         throw std::invalid_argument(
@@ -180,6 +180,12 @@ void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
           "lock");
     validateSignal(*c.prescribed, prefix + "prescribed");
   }
+  if (!std::isfinite(c.reference))
+    throw std::invalid_argument(prefix + "reference: must be finite");
+  if (c.initial && !std::isfinite(*c.initial))
+    throw std::invalid_argument(prefix + "initial: must be finite");
+  if (c.initial && c.locked)
+    throw std::invalid_argument(prefix + "initial: a locked coordinate stays where it was made");
   if (c.limits && !(c.limits->lower <= c.limits->upper))
     throw std::invalid_argument(prefix + "limits: lower must not exceed upper");
   if (!(std::isfinite(c.friction) && c.friction >= 0.0))

@@ -171,9 +171,11 @@ inline constexpr int kCoordinateRows = 5;
 template <class CoordinateRow>
 int coordinateRows(const JointContext& ctx, const CoordinateDef& c, int index, double margin,
                    CoordinateRow&& coordinateRow, std::span<Row> rows, int n) {
+  // The coordinate counts from its reference; a lock holds it where it was made.
   const auto next = [&](int part) -> Row& {
     Row& row = rows[static_cast<std::size_t>(n)];
     coordinateRow(row);
+    if (part != 5) row.phi += c.reference;
     row.key = coordinateSlot(index, part);
     return row;
   };

@@ -11,6 +11,7 @@
 #include "step/check.hpp"
 #include "step/step.hpp"
 #include "world/applied_loads.hpp"
+#include "world/joint_pose.hpp"
 
 #include <fmt/format.h>
 
@@ -252,12 +253,29 @@ std::span<const Contact> World::contacts() const {
 
 JointCoordinates World::jointCoordinates(JointId id) const {
   const Joint& j = joint(id);
-  return j.coordinates(bodyState(j.body1()), bodyState(j.body2()));
+  JointCoordinates q = j.coordinates(bodyState(j.body1()), bodyState(j.body2()));
+  const JointTypeInfo* type = findJointType(j.type());
+  const int free = type ? type->freeCoordinates() : 0;
+  for (int i = 0; i < free && i < q.size(); ++i)
+    q[i] += j.def().coordinates[static_cast<std::size_t>(i)].reference;
+  return q;
 }
 
 JointReaction World::jointReaction(JointId id) const {
   joint(id);  // checks the id
   return impl_->step.joint_loads.of(static_cast<std::size_t>(id.index));
+}
+
+void World::setJointCoordinate(JointId id, int coordinate, double value) {
+  const Joint& j = joint(id);
+  const double reference = coordinate >= 0 && coordinate < kMaxCoordinates
+                               ? j.def().coordinates[static_cast<std::size_t>(coordinate)].reference
+                               : 0.0;
+  if (!std::isfinite(value)) throw std::invalid_argument("initial: must be finite");
+  moveToCoordinate(bodies_, joints_, static_cast<std::size_t>(id.index), coordinate,
+                   value - reference);
+  for (const BodyId b : {j.body1(), j.body2()})
+    if (!b.isWorld()) wake(b);
 }
 
 double World::jointError(JointId id) const {
