@@ -45,6 +45,21 @@ Eigen::Matrix<double, 1, 12> jacobian(const Row& r) {
   return j;
 }
 
+// |d(phi)/dt - J u| of a one-row joint's row: its central difference along the bodies' motion
+// against its Jacobian.
+double firstRowRateMiss(const Joint& joint, const BodyState& b1, const BodyState& b2) {
+  const auto row = [&](const BodyState& s1, const BodyState& s2) {
+    std::vector<Row> rows(static_cast<std::size_t>(joint.maxRows()));
+    joint.fill(JointContext{s1, s2, 0.01}, rows);
+    return rows[0];
+  };
+  constexpr double eps = 1e-6;
+  const double rate = (row(advance(b1, eps), advance(b2, eps)).phi -
+                       row(advance(b1, -eps), advance(b2, -eps)).phi) /
+                      (2 * eps);
+  return std::abs(rate - jacobian(row(b1, b2)) * velocities(b1, b2));
+}
+
 TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
   // At a random pose of creation, random velocities projected onto what the joint allows
   // (J_eq u = 0): the coordinates' finite-difference rates equal their rows' J u. Friction on
@@ -534,16 +549,7 @@ TEST(Gear, RowIsTheRateOfItsConstraintAnywhere) {
     BodyState b1 = c1, b2 = c2;  // turned by up to 1.5 rad each
     b1.pose.orientation = math::expMap(test::randomVec(rng, 0.85)) * c1.pose.orientation;
     b2.pose.orientation = math::expMap(test::randomVec(rng, 0.85)) * c2.pose.orientation;
-    const auto row = [&](const BodyState& s1, const BodyState& s2) {
-      std::vector<Row> rows(1);
-      joint->fill(JointContext{s1, s2, 0.01}, rows);
-      return rows[0];
-    };
-    constexpr double eps = 1e-6;
-    const double rate = (row(advance(b1, eps), advance(b2, eps)).phi -
-                         row(advance(b1, -eps), advance(b2, -eps)).phi) /
-                        (2 * eps);
-    ASSERT_NEAR(rate, jacobian(row(b1, b2)) * velocities(b1, b2), 1e-7) << "trial " << trial;
+    ASSERT_LT(firstRowRateMiss(*joint, b1, b2), 1e-7) << "trial " << trial;
   }
 }
 
@@ -601,16 +607,7 @@ TEST(RackAndPinion, RowIsTheRateOfItsConstraintAnywhere) {
     BodyState b1 = c1, b2 = c2;  // the pinion turned by up to 1.5 rad, the rack moved
     b1.pose.orientation = math::expMap(test::randomVec(rng, 0.85)) * c1.pose.orientation;
     b2.pose.position += test::randomVec(rng, 1.0);
-    const auto row = [&](const BodyState& s1, const BodyState& s2) {
-      std::vector<Row> rows(1);
-      joint->fill(JointContext{s1, s2, 0.01}, rows);
-      return rows[0];
-    };
-    constexpr double eps = 1e-6;
-    const double rate = (row(advance(b1, eps), advance(b2, eps)).phi -
-                         row(advance(b1, -eps), advance(b2, -eps)).phi) /
-                        (2 * eps);
-    ASSERT_NEAR(rate, jacobian(row(b1, b2)) * velocities(b1, b2), 1e-7) << "trial " << trial;
+    ASSERT_LT(firstRowRateMiss(*joint, b1, b2), 1e-7) << "trial " << trial;
   }
 }
 

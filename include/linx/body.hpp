@@ -80,6 +80,9 @@ class Body {
   void setLinearVelocity(const Vec3& v) { v_ = v; }
   void setAngularVelocity(const Vec3& w) { w_ = w; }
 
+  /// Whether it has a velocity (linear or angular) at all.
+  bool isMoving() const { return !v_.isZero(0.0) || !w_.isZero(0.0); }
+
   /// Velocity (m/s, world) of a point given in world coordinates, moving with the body.
   Vec3 velocityAt(const Vec3& world_point) const {
     return v_ + w_.cross(world_point - pose_.position);

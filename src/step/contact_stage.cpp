@@ -206,8 +206,7 @@ void ContactStage::findResting(std::span<const Body> bodies, const ContactSettin
   detected_still_.resize(bodies.size());
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const Body& b = bodies[i];
-    const bool still =
-        b.isStatic() || (b.linearVelocity().isZero(0.0) && b.angularVelocity().isZero(0.0));
+    const bool still = b.isStatic() || !b.isMoving();
     const Pose& pose = b.pose();
     resting_[i] = same && still && detected_still_[i] &&
                   pose.position == detected_pose_[i].position &&

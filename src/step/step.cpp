@@ -34,9 +34,8 @@ bool awake(const State& state, std::size_t body) {
 void wakeDisturbed(const Scene& scene, State& state) {
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const Body& b = scene.bodies[i];
-    const bool moves = !b.linearVelocity().isZero(0) || !b.angularVelocity().isZero(0);
-    if ((!awake(state, i) && (moves || !b.force().isZero(0) || !b.torque().isZero(0))) ||
-        (b.isKinematic() && moves))
+    if ((!awake(state, i) && (b.isMoving() || !b.force().isZero(0) || !b.torque().isZero(0))) ||
+        (b.isKinematic() && b.isMoving()))
       wakeWithNeighbours(scene.bodies, state, static_cast<int>(i));
   }
 }
@@ -327,7 +326,7 @@ void sleep(const Scene& scene, State& state, double h) {
   const auto movingKinematic = [&](int body) {
     if (body < 0) return false;
     const Body& b = scene.bodies[static_cast<std::size_t>(body)];
-    return b.isKinematic() && !(b.linearVelocity().isZero(0.0) && b.angularVelocity().isZero(0.0));
+    return b.isKinematic() && b.isMoving();
   };
   for (std::size_t k = 0; k < state.rows.rows.size(); ++k) {
     const Row& r = state.rows.rows[k];

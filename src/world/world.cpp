@@ -36,9 +36,7 @@ bool driven(std::span<const Row> rows, std::span<const std::unique_ptr<Joint>> j
     const auto& c = j->def().coordinates;
     return std::any_of(c.begin(), c.end(), [](const CoordinateDef& d) { return d.prescribed; });
   };
-  const auto moving = [](const Body& b) {
-    return b.isKinematic() && !(b.linearVelocity().isZero(0.0) && b.angularVelocity().isZero(0.0));
-  };
+  const auto moving = [](const Body& b) { return b.isKinematic() && b.isMoving(); };
   return std::any_of(rows.begin(), rows.end(), drive) ||
          std::any_of(joints.begin(), joints.end(), prescribed) ||
          std::any_of(bodies.begin(), bodies.end(), moving);
