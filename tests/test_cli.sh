@@ -143,6 +143,25 @@ case "$case_name" in
     [ -e out/breaks.csv ] && fail "breaks.csv of the earlier run left behind"
     ;;
 
+  run_urdf)
+    # A URDF robot runs as it is: its root fixed, or free with --floating-base; what linx does not
+    # use is named in one warning line; a broken file is refused with exit 2.
+    expect 0 "$linx" check "$examples/robots/three_link_arm.urdf"
+    grep -q "^$examples/robots/three_link_arm.urdf: ok: 4 bodies, 3 joints, " out.txt ||
+      fail "unexpected summary for the URDF arm"
+    grep -q "^linx: warning: .*three_link_arm.urdf: not used by linx, ignored: joint limit effort and velocity" err.txt ||
+      fail "no warning naming the limits' effort and velocity"
+    expect 0 "$linx" run "$examples/robots/three_link_arm.urdf" --out out --duration 0.5 --every 100
+    [ "$(awk -F, '$1 == 0.5 && $2 == "pitch1" {print ($3 > 0.5)}' out/joints.csv)" = 1 ] ||
+      fail "the arm did not fall about pitch1"
+    expect 0 "$linx" run "$examples/robots/three_link_arm.urdf" --floating-base --out out --duration 0.5
+    [ "$(awk -F, '$1 == 0.5 && $2 == "base" {print ($5 < -1.1)}' out/bodies.csv)" = 1 ] ||
+      fail "the floating base did not fall"
+    printf '<robot name="r"><link name="a">' >broken.urdf
+    expect 2 "$linx" check broken.urdf
+    expect_error_line "linx: broken.urdf: line "
+    ;;
+
   bad_scenes)
     printf '{"bodies": [{"name": "bob", "mas": 1}]}' >unknown.json
     printf '{\n  "bodies": [\n    {"name": "bob",}\n  ]\n}\n' >syntax.json

@@ -1,7 +1,7 @@
 // The `linx` command line (docs/scene-format.md, "Command line"; docs/visualization.md):
 //   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--threads N] [--every N]
 //            [--contacts] [--vtk] [--render]
-//   linx check SCENE.json
+//   linx check SCENE.json   (or ROBOT.urdf [--floating-base] for either)
 //   linx render DIR ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
@@ -59,8 +59,9 @@ struct RunOptions {
   std::optional<int> threads;
   int every = 1;
   bool contacts = false;
-  bool vtk = false;     // also write ParaView files (DIR/vtk/, DIR/run.pvd)
-  bool render = false;  // then render POV-Ray frames (linx render DIR)
+  bool vtk = false;            // also write ParaView files (DIR/vtk/, DIR/run.pvd)
+  bool render = false;         // then render POV-Ray frames (linx render DIR)
+  bool floating_base = false;  // a URDF's root link is free
 };
 
 double positiveFlag(const char* flag, double value) {
@@ -93,7 +94,10 @@ struct Prepared {
 
 // Loads the scene, applies the flags and builds the world: everything that can reject the input.
 Prepared prepare(const RunOptions& options) {
-  linx::Scene scene = linx::loadScene(options.scene);
+  linx::Scene scene =
+      linx::loadModel(options.scene, linx::ImportOptions{.floating_base = options.floating_base});
+  for (const std::string& warning : scene.warnings)
+    fmt::print(stderr, "linx: warning: {}\n", warning);
   if (options.duration) scene.duration = *options.duration;
   if (options.timestep) scene.settings.timestep = *options.timestep;
   if (options.threads) scene.settings.threads = *options.threads;
@@ -224,7 +228,8 @@ int main(int argc, char** argv) {
   RunOptions options;
   double duration = 0, timestep = 0;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate a scene and write its trajectory as CSV");
-  run_cmd->add_option("scene", options.scene, "Scene file (JSON)")->required();
+  run_cmd->add_option("scene", options.scene, "Scene file (JSON) or robot model (URDF)")
+      ->required();
   run_cmd->add_option("-o,--out", options.out, "Output directory (created if needed)")->required();
   CLI::Option* duration_opt =
       run_cmd->add_option("--duration", duration, "Simulated time (s), overrides the scene's");
@@ -243,7 +248,11 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--render", options.render,
                     "Then render POV-Ray frames and a video, as linx render DIR does");
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a scene and summarize it");
-  check_cmd->add_option("scene", options.scene, "Scene file (JSON)")->required();
+  check_cmd->add_option("scene", options.scene, "Scene file (JSON) or robot model (URDF)")
+      ->required();
+  for (CLI::App* cmd : {run_cmd, check_cmd})
+    cmd->add_flag("--floating-base", options.floating_base,
+                  "URDF: the root link is a free body, not fixed to the world");
 
   linx::cli::RenderOptions render_options;
   CLI::App* render_cmd =

@@ -3,6 +3,7 @@
 
 #include <linx/body.hpp>
 #include <linx/contact.hpp>
+#include <linx/import.hpp>
 #include <linx/joint.hpp>
 #include <linx/loads.hpp>
 #include <linx/mass_properties.hpp>

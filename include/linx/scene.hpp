@@ -59,6 +59,9 @@ struct Scene {
   std::vector<SceneJoint> springs;
   std::vector<SceneLoad> loads;  ///< top-level forces and torques
   std::optional<SceneView> view;
+  /// What the file held that linx does not use (an imported model's unsupported elements), one
+  /// line each, to be shown to the user.
+  std::vector<std::string> warnings;
 };
 
 /// Reads and validates a scene file. Throws SceneError.

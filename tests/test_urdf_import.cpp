@@ -1,0 +1,322 @@
+// URDF import against independent truths: a pendulum whose inertial is offset and turned from its
+// link frame, on a joint axis along no world axis, swings with the physical pendulum's exact
+// period; a two-link arm falls exactly as the same model written by hand in the scene format; a
+// floating base falls freely; massless links on fixed joints join their parent; what linx does not
+// use is named; bad files are refused with the file and the element.
+#include "support.hpp"
+
+#include <linx/import.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+namespace linx {
+namespace {
+
+namespace fs = std::filesystem;
+
+class UrdfImport : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("linx_urdf_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path path = dir_ / name;
+    fs::create_directories(path.parent_path());
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+// URDF's rpy: fixed-axis roll about x, then pitch about y, then yaw about z.
+Mat3 rpy(double roll, double pitch, double yaw) {
+  return (Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
+          Eigen::AngleAxisd(roll, Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+const char* kPendulum = R"(<?xml version="1.0"?>
+<robot name="pendulum">
+  <link name="world"><collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+  <joint name="swing" type="continuous">
+    <parent link="world"/><child link="bob"/>
+    <origin xyz="0.1 0.2 1.0" rpy="0.3 -0.2 0.5"/>
+    <axis xyz="0.6 0.8 0"/>
+  </joint>
+  <link name="bob">
+    <inertial>
+      <origin xyz="0.05 -0.3 0.1" rpy="0.4 0.1 -0.2"/>
+      <mass value="2"/>
+      <inertia ixx="0.02" ixy="0.001" ixz="0" iyy="0.03" iyz="-0.002" izz="0.04"/>
+    </inertial>
+    <collision><origin xyz="0.05 -0.3 0.1"/><geometry><sphere radius="0.05"/></geometry></collision>
+  </link>
+</robot>
+)";
+
+TEST_F(UrdfImport, TurnedPendulumSwingsWithThePhysicalPendulumsPeriod) {
+  const Scene scene = importUrdf(write("pendulum.urdf", kPendulum));
+  ASSERT_EQ(scene.bodies.size(), 2u);  // the bob, and the world link's sphere on a static body
+  ASSERT_EQ(scene.joints.size(), 1u);
+  EXPECT_EQ(scene.bodies[1].name, "world_shapes");
+  EXPECT_TRUE(scene.bodies[1].is_static);
+
+  // The closed form, from the file's numbers.
+  const Mat3 joint_r = rpy(0.3, -0.2, 0.5);
+  const Vec3 pivot(0.1, 0.2, 1.0);
+  const Vec3 axis = (joint_r * Vec3(0.6, 0.8, 0.0)).normalized();
+  const Vec3 com = pivot + joint_r * Vec3(0.05, -0.3, 0.1);
+  Mat3 inertial;
+  inertial << 0.02, 0.001, 0, 0.001, 0.03, -0.002, 0, -0.002, 0.04;
+  const Mat3 to_world = joint_r * rpy(0.4, 0.1, -0.2);
+  const Mat3 inertia_world = to_world * inertial * to_world.transpose();
+  const double m = 2.0;
+  const Vec3 r = com - pivot;
+  const Vec3 arm = r - r.dot(axis) * axis;
+  const Vec3 g(0, 0, -9.81);
+  const Vec3 g_across = g - g.dot(axis) * axis;
+  const double d = arm.norm();
+  const double inertia_axis = axis.dot(inertia_world * axis) + m * d * d;
+  const double theta0 = std::acos(arm.normalized().dot(g_across.normalized()));
+  const double period = test::pendulumPeriod(inertia_axis, m, g_across.norm(), d, theta0);
+  ASSERT_GT(theta0, 0.3);
+  ASSERT_LT(theta0, 2.5);
+
+  World world = buildWorld(scene);
+  std::vector<double> t, angle;
+  for (int i = 0; i < 6000; ++i) {
+    world.step();
+    t.push_back(world.time());
+    angle.push_back(world.jointCoordinates(JointId{0})[0]);
+  }
+  const auto [lo, hi] = std::minmax_element(angle.begin(), angle.end());
+  const double middle = 0.5 * (*lo + *hi);
+  EXPECT_NEAR(0.5 * (*hi - *lo), theta0, 1e-3 * theta0);  // released from rest: its amplitude
+  for (double& a : angle) a -= middle;
+  const std::vector<double> up = test::upwardCrossings(t, angle);
+  ASSERT_GE(up.size(), 3u);
+  const double measured = (up.back() - up.front()) / static_cast<double>(up.size() - 1);
+  std::printf(
+      "pendulum: amplitude %.6f rad (closed form %.6f), period %.9f s (closed form %.9f s, "
+      "relative error %.2e)\n",
+      0.5 * (*hi - *lo), theta0, measured, period, measured / period - 1.0);
+  EXPECT_NEAR(measured / period - 1.0, 0.0, 1e-3)
+      << "period " << measured << " s, closed form " << period << " s";
+}
+
+// A two-link arm: in URDF, and by hand in the scene format with the world-frame numbers.
+const char* kArmUrdf = R"(<?xml version="1.0"?>
+<robot name="arm">
+  <link name="world"/>
+  <joint name="shoulder" type="revolute">
+    <parent link="world"/><child link="upper"/>
+    <origin xyz="0 0 1"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="10" velocity="5"/>
+  </joint>
+  <link name="upper">
+    <inertial><origin xyz="0.25 0 0" rpy="0 1.5707963267948966 0"/><mass value="1.5"/>
+      <inertia ixx="0.04" ixy="0" ixz="0" iyy="0.04" iyz="0" izz="0.003"/></inertial>
+  </link>
+  <joint name="elbow" type="revolute">
+    <parent link="upper"/><child link="lower"/>
+    <origin xyz="0.5 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-0.5" upper="0.5" effort="10" velocity="5"/>
+    <dynamics damping="0.2"/>
+  </joint>
+  <link name="lower">
+    <inertial><origin xyz="0.2 0 0"/><mass value="1"/>
+      <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial>
+  </link>
+</robot>
+)";
+
+const char* kArmScene = R"({
+  "duration": 1,
+  "bodies": [
+    { "name": "upper", "mass": 1.5, "inertia": [0.003, 0.04, 0.04], "position": [0.25, 0, 1] },
+    { "name": "lower", "mass": 1, "inertia": [0.002, 0.02, 0.02], "position": [0.7, 0, 1] }
+  ],
+  "joints": [
+    { "name": "shoulder", "type": "hinge", "body1": "upper", "body2": "world",
+      "anchor": [0, 0, 1], "axis": [0, 1, 0], "limits": {"lower": -3, "upper": 3} },
+    { "name": "elbow", "type": "hinge", "body1": "lower", "body2": "upper",
+      "anchor": [0.5, 0, 1], "axis": [0, 1, 0], "limits": {"lower": -0.5, "upper": 0.5},
+      "spring": { "stiffness": 0, "damping": 0.2 } }
+  ]
+})";
+
+TEST_F(UrdfImport, ArmFallsAsTheSameModelInTheSceneFormat) {
+  World urdf = buildWorld(importUrdf(write("arm.urdf", kArmUrdf)));
+  World json = buildWorld(loadScene(write("arm.json", kArmScene)));
+  ASSERT_EQ(urdf.bodyCount(), json.bodyCount());
+  double largest = 0.0, swing = 0.0;
+  for (int i = 0; i < 1000; ++i) {
+    urdf.step();
+    json.step();
+    for (int b = 0; b < urdf.bodyCount(); ++b) {
+      largest = std::max(
+          largest, (urdf.body(BodyId{b}).position() - json.body(BodyId{b}).position()).norm());
+    }
+    swing = std::max(swing, std::abs(urdf.jointCoordinates(JointId{0})[0]));
+  }
+  std::printf("arm: largest position difference URDF - scene format over 1 s: %.3g m\n", largest);
+  EXPECT_GT(swing, 1.0);  // it fell
+  EXPECT_LT(largest, 1e-9);
+  // The elbow met its limit and stayed within it.
+  EXPECT_LE(urdf.jointCoordinates(JointId{1})[0], 0.5 + 1e-3);
+}
+
+TEST_F(UrdfImport, FloatingBaseFallsFreely) {
+  const fs::path file = write("arm.urdf", kArmUrdf);
+  ImportOptions floating;
+  floating.floating_base = true;
+  EXPECT_THROW(importUrdf(file, floating), SceneError);  // its root "world" has no mass
+
+  const char* box = R"(<robot name="box">
+    <link name="base"><inertial><mass value="3"/>
+      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+      <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  </robot>)";
+  const fs::path box_file = write("box.urdf", box);
+  EXPECT_TRUE(importUrdf(box_file).bodies[0].is_static);
+  World world = buildWorld(importUrdf(box_file, floating));
+  for (int i = 0; i < 500; ++i) world.step();
+  EXPECT_NEAR(world.body(BodyId{0}).linearVelocity().z(), -9.81 * world.time(), 1e-9);
+}
+
+TEST_F(UrdfImport, MasslessLinkOnAFixedJointJoinsItsParent) {
+  const char* text = R"(<robot name="r">
+    <link name="base"/>
+    <joint name="j" type="prismatic"><parent link="base"/><child link="carriage"/>
+      <origin xyz="0 0 1" rpy="0 0 1.5707963267948966"/><axis xyz="1 0 0"/>
+      <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    <link name="carriage"><inertial><origin xyz="0.1 0 0"/><mass value="2"/>
+      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+    <joint name="mount" type="fixed"><parent link="carriage"/><child link="sensor"/>
+      <origin xyz="0.3 0 0.05"/></joint>
+    <link name="sensor"><collision><origin xyz="0 0 0.02"/>
+      <geometry><sphere radius="0.03"/></geometry></collision></link>
+  </robot>)";
+  const Scene scene = importUrdf(write("r.urdf", text));
+  ASSERT_EQ(scene.bodies.size(), 2u);  // base, carriage (with the sensor's sphere)
+  ASSERT_EQ(scene.joints.size(), 1u);
+  EXPECT_EQ(scene.joints[0].type, "slider");
+  EXPECT_TRUE(scene.joints[0].def.axis.isApprox(Vec3::UnitY(), 1e-15));  // x turned 90 deg
+  const BodyDef& carriage = scene.bodies[1];
+  EXPECT_TRUE(carriage.position.isApprox(Vec3(0, 0.1, 1), 1e-15));
+  ASSERT_EQ(carriage.shapes.size(), 1u);
+  // The sphere is 0.3 - 0.1 along the link's x from the centre of mass, 0.07 up.
+  EXPECT_TRUE(carriage.shapes[0].position.isApprox(Vec3(0.2, 0, 0.07), 1e-14))
+      << carriage.shapes[0].position.transpose();
+  World world = buildWorld(scene);
+  for (int i = 0; i < 100; ++i) world.step();  // gravity is across the slider: it stays
+  EXPECT_NEAR(world.jointCoordinates(JointId{0})[0], 0.0, 1e-12);
+}
+
+TEST_F(UrdfImport, MeshesFromPackagesAreScaledAndMovingOnesConvex) {
+  write("ws/my_robot/meshes/cube.obj",
+        "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+        "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\n"
+        "f 3 8 7\nf 4 1 5\nf 4 5 8\n");
+  const char* text = R"(<robot name="r">
+    <link name="base"><collision><geometry>
+      <mesh filename="package://my_robot/meshes/cube.obj" scale="2 2 2"/></geometry></collision></link>
+    <joint name="j" type="continuous"><parent link="base"/><child link="wheel"/>
+      <axis xyz="0 0 1"/></joint>
+    <link name="wheel"><inertial><mass value="1"/>
+      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+      <collision><geometry><mesh filename="package://my_robot/meshes/cube.obj" scale="0.1 0.2 0.3"/>
+      </geometry></collision></link>
+  </robot>)";
+  const Scene scene = importUrdf(write("ws/my_robot/urdf/r.urdf", text));
+  ASSERT_EQ(scene.bodies.size(), 2u);
+  EXPECT_EQ(scene.bodies[0].shapes[0].type, ShapeType::Mesh);  // static: the mesh itself
+  EXPECT_EQ(scene.bodies[0].shapes[0].points[6], Vec3(2, 2, 2));
+  const ShapeDef& wheel = scene.bodies[1].shapes[0];
+  EXPECT_EQ(wheel.type, ShapeType::Convex);
+  EXPECT_EQ(wheel.points[6], Vec3(0.1, 0.2, 0.3));
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("convex hull"), std::string::npos);
+  EXPECT_NO_THROW(buildWorld(scene));
+}
+
+TEST_F(UrdfImport, WhatLinxDoesNotUseIsNamedInOneWarning) {
+  const char* text = R"(<robot name="r">
+    <link name="a"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+      <visual><geometry><sphere radius="1"/></geometry></visual></link>
+    <joint name="j1" type="continuous"><parent link="a"/><child link="b"/></joint>
+    <link name="b"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+    <joint name="j2" type="continuous"><parent link="a"/><child link="c"/>
+      <mimic joint="j1" multiplier="2"/></joint>
+    <link name="c"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+    <transmission name="t1"/><transmission name="t2"/><gazebo/>
+  </robot>)";
+  const Scene scene = importUrdf(write("r.urdf", text));
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  const std::string& w = scene.warnings[0];
+  for (const char* named : {"<transmission> (x2)", "<gazebo>", "<mimic> on joint 'j2'", "<visual>"})
+    EXPECT_NE(w.find(named), std::string::npos) << named << " not in: " << w;
+}
+
+// Each bad file: the message names the file and the element and says what is wrong.
+TEST_F(UrdfImport, BadFilesAreRefusedWithTheFileAndTheElement) {
+  const auto refused = [&](const std::string& text, const std::string& expected) {
+    const fs::path file = write("bad.urdf", text);
+    try {
+      importUrdf(file);
+      ADD_FAILURE() << "accepted; expected: " << expected;
+    } catch (const SceneError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(file.string()), std::string::npos) << what;
+      EXPECT_NE(what.find(expected), std::string::npos) << what;
+    }
+  };
+  const std::string link_b =
+      R"(<link name="b"><inertial><mass value="1"/>
+         <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)";
+  refused("<robot name='r'><link name='a'>", "not well-formed XML");
+  refused("<model/>", "needs a <robot> element");
+  refused(
+      "<robot name='r'><link name='a'/><joint name='j' type='continuous'><parent link='a'/>"
+      "<child link='nope'/></joint></robot>",
+      "nope");
+  refused(
+      "<robot name='r'><link name='a'/><joint name='j' type='continuous'><parent link='a'/>"
+      "<child link='b'/></joint><link name='b'/></robot>",
+      "link 'b': has no <inertial> with a mass > 0, but joint 'j' moves it");
+  refused(
+      "<robot name='r'><link name='a'/><joint name='j' type='revolute'><parent link='a'/>"
+      "<child link='b'/><limit lower='1' upper='-1' effort='1' velocity='1'/></joint>" +
+          link_b + "</robot>",
+      "joint 'j': <limit> lower 1 is above upper -1");
+  refused(
+      "<robot name='r'><link name='a'><collision><geometry><mesh filename='gone.stl'/>"
+      "</geometry></collision></link></robot>",
+      "gone.stl");
+  EXPECT_THROW(importUrdf(dir_ / "missing.urdf"), SceneError);
+}
+
+TEST_F(UrdfImport, LoadModelTellsFormatsApartByExtension) {
+  EXPECT_EQ(loadModel(write("a.URDF", kArmUrdf)).joints.size(), 2u);
+  EXPECT_EQ(loadModel(write("a.json", kArmScene)).joints.size(), 2u);
+}
+
+}  // namespace
+}  // namespace linx
