@@ -310,6 +310,10 @@ TEST_F(UrdfImport, BadFilesAreRefusedWithTheFileAndTheElement) {
       "<robot name='r'><link name='a'><collision><geometry><mesh filename='gone.stl'/>"
       "</geometry></collision></link></robot>",
       "gone.stl");
+  refused("<robot name='r'><link name='a'/><joint name='j' type='continuous'><parent link='a'/>"
+          "<child link='b'/></joint><link name='b'><inertial><mass value='1'/>"
+          "<inertia ixx='0' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link></robot>",
+          "link 'b': inertia: must be finite, symmetric and positive definite");
   EXPECT_THROW(importUrdf(dir_ / "missing.urdf"), SceneError);
 }
 

@@ -23,6 +23,7 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -173,6 +174,7 @@ class UrdfImporter {
     for (const std::string& name : xml.links) attachShapes(name, scene);
     for (const std::string& name : xml.joints)
       if (auto joint = makeJoint(*model_->getJoint(name), scene)) scene.joints.push_back(*joint);
+    checkBuildable(scene);
     scene.warnings = xml.unsupported.warnings(file_);
     for (const std::string& w : meshes_made_convex_) scene.warnings.push_back(w);
     return scene;
@@ -185,6 +187,26 @@ class UrdfImporter {
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
+  }
+
+  // What World refuses (a bad inertia, a degenerate hull), named by the link or joint it came
+  // from rather than by its place in the Scene.
+  void checkBuildable(const Scene& scene) const {
+    World world(scene.settings);
+    for (const BodyDef& body : scene.bodies) {
+      try {
+        world.createBody(body);
+      } catch (const std::invalid_argument& e) {
+        fail(fmt::format("link '{}'", body.name), e.what());
+      }
+    }
+    for (const SceneJoint& joint : scene.joints) {
+      try {
+        world.createJoint(joint.type, joint.def);
+      } catch (const std::invalid_argument& e) {
+        fail(fmt::format("joint '{}'", joint.def.name), e.what());
+      }
+    }
   }
 
   [[noreturn]] void fail(const std::string& where, const std::string& problem) const {
