@@ -3,8 +3,12 @@
 
 #include <linx/linx.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
+#include <string>
 #include <vector>
 
 namespace linx::test {
@@ -53,5 +57,77 @@ inline std::vector<double> upwardCrossings(const std::vector<double>& t,
       out.push_back(t[i - 1] + (t[i] - t[i - 1]) * (-y[i - 1]) / (y[i] - y[i - 1]));
   return out;
 }
+
+/// An oscillation sampled at times t: its amplitude (half its range) and its mean period, from
+/// the upward crossings of its middle (zero periods when it crossed fewer than twice).
+struct Oscillation {
+  double amplitude = 0.0;
+  double period = 0.0;
+  std::size_t crossings = 0;
+};
+inline Oscillation oscillation(const std::vector<double>& t, std::vector<double> y) {
+  const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+  const double middle = 0.5 * (*lo + *hi), amplitude = 0.5 * (*hi - *lo);
+  for (double& v : y) v -= middle;
+  const std::vector<double> up = upwardCrossings(t, y);
+  const double period =
+      up.size() < 2 ? 0.0 : (up.back() - up.front()) / static_cast<double>(up.size() - 1);
+  return {amplitude, period, up.size()};
+}
+
+/// A rigid body of mass m and inertia `inertia` (about its centre `com`, world axes) on a hinge
+/// about the unit `axis` through `pivot`, released from rest under gravity g: its amplitude, the
+/// angle between its centre's arm and the part of g across the axis (rad), and its exact period
+/// (s), from pendulumPeriod with the moment about the axis and that part of g.
+struct PendulumOnAxis {
+  double amplitude = 0.0;
+  double period = 0.0;
+};
+inline PendulumOnAxis pendulumOnAxis(const Vec3& pivot, const Vec3& axis, const Vec3& com,
+                                     const Mat3& inertia, double m, const Vec3& g) {
+  const Vec3 r = com - pivot;
+  const Vec3 arm = r - r.dot(axis) * axis;
+  const Vec3 g_across = g - g.dot(axis) * axis;
+  const double d = arm.norm();
+  const double theta0 = std::acos(arm.normalized().dot(g_across.normalized()));
+  return {theta0,
+          pendulumPeriod(axis.dot(inertia * axis) + m * d * d, m, g_across.norm(), d, theta0)};
+}
+
+/// The oscillation of a joint's first coordinate over `steps` steps of `world`.
+inline Oscillation jointOscillation(World& world, JointId joint, int steps) {
+  std::vector<double> t, q;
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    t.push_back(world.time());
+    q.push_back(world.jointCoordinates(joint)[0]);
+  }
+  return oscillation(t, std::move(q));
+}
+
+/// A fresh folder under the system's temporary folder, removed with its files at the end.
+class TempFolder {
+ public:
+  explicit TempFolder(const std::string& name)
+      : path_(std::filesystem::temp_directory_path() / name) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempFolder() { std::filesystem::remove_all(path_); }
+  TempFolder(const TempFolder&) = delete;
+  TempFolder& operator=(const TempFolder&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  /// Writes `text` to the file `name` in it (making its folders); its path.
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    const std::filesystem::path file = path_ / name;
+    std::filesystem::create_directories(file.parent_path());
+    std::ofstream(file) << text;
+    return file;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
 
 }  // namespace linx::test

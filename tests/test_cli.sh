@@ -162,6 +162,32 @@ case "$case_name" in
     expect_error_line "linx: broken.urdf: line "
     ;;
 
+  convert)
+    # A URDF robot written as a scene file that checks as the robot does; a folder is no output.
+    expect 0 "$linx" convert "$examples/robots/three_link_arm.urdf" out.json
+    grep -q "^wrote out.json (4 bodies, 3 joints)$" out.txt || fail "unexpected summary of convert"
+    grep -q "^linx: warning: " err.txt || fail "the URDF's warning was not shown"
+    ls out.json.tmp-* >/dev/null 2>&1 && fail "a temporary file was left behind"
+    expect 0 "$linx" check out.json
+    grep -q "^out.json: ok: 4 bodies, 3 joints, " out.txt || fail "the converted scene does not check"
+    mkdir folder
+    expect 2 "$linx" convert "$examples/robots/three_link_arm.urdf" folder
+    expect_error_line "linx: folder: is a directory"
+    ;;
+
+  run_mjcf)
+    # An MJCF model runs as it is; an unsupported construct is refused naming the element's line.
+    expect 0 "$linx" check "$examples/robots/four_bar.xml"
+    grep -q "^$examples/robots/four_bar.xml: ok: 4 bodies, 4 joints, timestep 0.001 s, " out.txt ||
+      fail "unexpected summary for the MJCF four-bar"
+    expect 0 "$linx" run "$examples/robots/four_bar.xml" --out out --duration 1 --every 100
+    [ "$(awk -F, '$1 == 1 && $2 == "C" {print ($4 < 1e-9)}' out/joints.csv)" = 1 ] ||
+      fail "the four-bar's loop opened"
+    printf '<mujoco><worldbody>\n<body name="b"><joint/><joint/><geom size="1"/></body></worldbody></mujoco>' >two.xml
+    expect 2 "$linx" check two.xml
+    expect_error_line "linx: two.xml: body 'b' (line 2): has 2 joints"
+    ;;
+
   bad_scenes)
     printf '{"bodies": [{"name": "bob", "mas": 1}]}' >unknown.json
     printf '{\n  "bodies": [\n    {"name": "bob",}\n  ]\n}\n' >syntax.json

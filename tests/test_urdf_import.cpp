@@ -23,23 +23,13 @@ namespace fs = std::filesystem;
 
 class UrdfImport : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("linx_urdf_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path path = dir_ / name;
-    fs::create_directories(path.parent_path());
-    std::ofstream(path) << text;
-    return path;
+    return folder_.write(name, text);
   }
 
-  fs::path dir_;
+  test::TempFolder folder_{
+      "linx_urdf_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())};
+  const fs::path& dir_ = folder_.path();
 };
 
 // URDF's rpy: fixed-axis roll about x, then pitch about y, then yaw about z.
@@ -84,38 +74,21 @@ TEST_F(UrdfImport, TurnedPendulumSwingsWithThePhysicalPendulumsPeriod) {
   inertial << 0.02, 0.001, 0, 0.001, 0.03, -0.002, 0, -0.002, 0.04;
   const Mat3 to_world = joint_r * rpy(0.4, 0.1, -0.2);
   const Mat3 inertia_world = to_world * inertial * to_world.transpose();
-  const double m = 2.0;
-  const Vec3 r = com - pivot;
-  const Vec3 arm = r - r.dot(axis) * axis;
-  const Vec3 g(0, 0, -9.81);
-  const Vec3 g_across = g - g.dot(axis) * axis;
-  const double d = arm.norm();
-  const double inertia_axis = axis.dot(inertia_world * axis) + m * d * d;
-  const double theta0 = std::acos(arm.normalized().dot(g_across.normalized()));
-  const double period = test::pendulumPeriod(inertia_axis, m, g_across.norm(), d, theta0);
-  ASSERT_GT(theta0, 0.3);
-  ASSERT_LT(theta0, 2.5);
+  const test::PendulumOnAxis truth =
+      test::pendulumOnAxis(pivot, axis, com, inertia_world, 2.0, Vec3(0, 0, -9.81));
+  ASSERT_GT(truth.amplitude, 0.3);
+  ASSERT_LT(truth.amplitude, 2.5);
 
   World world = buildWorld(scene);
-  std::vector<double> t, angle;
-  for (int i = 0; i < 6000; ++i) {
-    world.step();
-    t.push_back(world.time());
-    angle.push_back(world.jointCoordinates(JointId{0})[0]);
-  }
-  const auto [lo, hi] = std::minmax_element(angle.begin(), angle.end());
-  const double middle = 0.5 * (*lo + *hi);
-  EXPECT_NEAR(0.5 * (*hi - *lo), theta0, 1e-3 * theta0);  // released from rest: its amplitude
-  for (double& a : angle) a -= middle;
-  const std::vector<double> up = test::upwardCrossings(t, angle);
-  ASSERT_GE(up.size(), 3u);
-  const double measured = (up.back() - up.front()) / static_cast<double>(up.size() - 1);
+  const test::Oscillation swing = test::jointOscillation(world, JointId{0}, 6000);
+  ASSERT_GE(swing.crossings, 3u);
   std::printf(
-      "pendulum: amplitude %.6f rad (closed form %.6f), period %.9f s (closed form %.9f s, "
-      "relative error %.2e)\n",
-      0.5 * (*hi - *lo), theta0, measured, period, measured / period - 1.0);
-  EXPECT_NEAR(measured / period - 1.0, 0.0, 1e-3)
-      << "period " << measured << " s, closed form " << period << " s";
+      "pendulum: amplitude %.6f rad (closed form %.6f), period %.9f s (closed form %.9f "
+      "s, relative error %.2e)\n",
+      swing.amplitude, truth.amplitude, swing.period, truth.period,
+      swing.period / truth.period - 1.0);
+  EXPECT_NEAR(swing.amplitude / truth.amplitude - 1.0, 0.0, 1e-3);  // released from rest
+  EXPECT_NEAR(swing.period / truth.period - 1.0, 0.0, 1e-3);
 }
 
 // A two-link arm: in URDF, and by hand in the scene format with the world-frame numbers.
@@ -310,10 +283,11 @@ TEST_F(UrdfImport, BadFilesAreRefusedWithTheFileAndTheElement) {
       "<robot name='r'><link name='a'><collision><geometry><mesh filename='gone.stl'/>"
       "</geometry></collision></link></robot>",
       "gone.stl");
-  refused("<robot name='r'><link name='a'/><joint name='j' type='continuous'><parent link='a'/>"
-          "<child link='b'/></joint><link name='b'><inertial><mass value='1'/>"
-          "<inertia ixx='0' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link></robot>",
-          "link 'b': inertia: must be finite, symmetric and positive definite");
+  refused(
+      "<robot name='r'><link name='a'/><joint name='j' type='continuous'><parent link='a'/>"
+      "<child link='b'/></joint><link name='b'><inertial><mass value='1'/>"
+      "<inertia ixx='0' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link></robot>",
+      "link 'b': inertia: must be finite, symmetric and positive definite");
   EXPECT_THROW(importUrdf(dir_ / "missing.urdf"), SceneError);
 }
 

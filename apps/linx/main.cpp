@@ -1,7 +1,8 @@
 // The `linx` command line (docs/scene-format.md, "Command line"; docs/visualization.md):
 //   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--threads N] [--every N]
 //            [--contacts] [--vtk] [--render]
-//   linx check SCENE.json   (or ROBOT.urdf [--floating-base] for either)
+//   linx check SCENE.json   (SCENE may be ROBOT.urdf [--floating-base] or MODEL.xml, MJCF)
+//   linx convert SCENE.json|ROBOT.urdf OUT.json [--floating-base]
 //   linx render DIR ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
@@ -27,9 +28,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #ifndef LINX_VERSION
 #error "LINX_VERSION is set by CMakeLists.txt from project(VERSION)"
@@ -119,6 +122,47 @@ int check(const RunOptions& options) {
              options.scene, count(p.scene.bodies.size(), "body", "bodies"),
              count(p.scene.joints.size(), "joint", "joints"), extra, p.scene.settings.timestep,
              p.scene.duration, p.steps, linx::solverTypeName(p.scene.settings.solver.type));
+  return 0;
+}
+
+struct ConvertOptions {
+  std::string input;
+  std::string output;
+  bool floating_base = false;  // a URDF's root link is free
+};
+
+// Writes `text` to `path` through a temporary file in the same folder, renamed into place: the
+// file is either complete or not there at all.
+void writeAtomically(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+  const std::filesystem::path temp =
+      folder / fmt::format("{}.tmp-{}", path.filename().string(), getpid());
+  try {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(fmt::format("cannot write {}", temp.string()));
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error(fmt::format("cannot write {}", temp.string()));
+    std::filesystem::rename(temp, path);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(temp, ec);
+    throw;
+  }
+}
+
+// Loads a scene or a robot and writes it as a JSON scene file.
+int convert(const ConvertOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(options.output, ec))
+    throw BadInput(fmt::format("{}: is a directory, expected a file to write", options.output));
+  const linx::Scene scene =
+      linx::loadModel(options.input, linx::ImportOptions{.floating_base = options.floating_base});
+  for (const std::string& warning : scene.warnings)
+    fmt::print(stderr, "linx: warning: {}\n", warning);
+  writeAtomically(options.output, linx::writeSceneJson(scene));
+  fmt::print("wrote {} ({} bodies, {} joints)\n", options.output, scene.bodies.size(),
+             scene.joints.size());
   return 0;
 }
 
@@ -228,7 +272,9 @@ int main(int argc, char** argv) {
   RunOptions options;
   double duration = 0, timestep = 0;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate a scene and write its trajectory as CSV");
-  run_cmd->add_option("scene", options.scene, "Scene file (JSON) or robot model (URDF)")
+  run_cmd
+      ->add_option("scene", options.scene,
+                   "Scene file (JSON), URDF robot (.urdf) or MuJoCo model (.xml)")
       ->required();
   run_cmd->add_option("-o,--out", options.out, "Output directory (created if needed)")->required();
   CLI::Option* duration_opt =
@@ -248,10 +294,23 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--render", options.render,
                     "Then render POV-Ray frames and a video, as linx render DIR does");
   CLI::App* check_cmd = app.add_subcommand("check", "Validate a scene and summarize it");
-  check_cmd->add_option("scene", options.scene, "Scene file (JSON) or robot model (URDF)")
+  check_cmd
+      ->add_option("scene", options.scene,
+                   "Scene file (JSON), URDF robot (.urdf) or MuJoCo model (.xml)")
       ->required();
-  for (CLI::App* cmd : {run_cmd, check_cmd})
-    cmd->add_flag("--floating-base", options.floating_base,
+  ConvertOptions convert_options;
+  CLI::App* convert_cmd =
+      app.add_subcommand("convert", "Write a scene or a URDF robot as a JSON scene file");
+  convert_cmd
+      ->add_option("input", convert_options.input,
+                   "Scene file (JSON), URDF robot (.urdf) or MuJoCo model (.xml)")
+      ->required();
+  convert_cmd->add_option("output", convert_options.output, "Scene file to write (JSON)")
+      ->required();
+  for (auto [cmd, floating_base] :
+       {std::pair{run_cmd, &options.floating_base}, std::pair{check_cmd, &options.floating_base},
+        std::pair{convert_cmd, &convert_options.floating_base}})
+    cmd->add_flag("--floating-base", *floating_base,
                   "URDF: the root link is a free body, not fixed to the world");
 
   linx::cli::RenderOptions render_options;
@@ -293,6 +352,10 @@ int main(int argc, char** argv) {
     if (*vtk_cmd) return writeVtk(vtk_dir);
     if (*plot_cmd) return linx::cli::plot(plot_options);
     if (*view_cmd) return linx::cli::view(view_options);
+    if (*convert_cmd) {
+      options.scene = convert_options.input;  // names the input in messages
+      return convert(convert_options);
+    }
     return *check_cmd ? check(options) : run(options);
   } catch (const linx::SceneError& e) {
     fmt::print(stderr, "linx: {}\n", e.what());

@@ -1,4 +1,5 @@
-// Models from other formats, read as a Scene (docs/model-import.md): URDF robots now. The Scene
+// Models from other formats, read as a Scene (docs/model-import.md): URDF robots and MuJoCo's
+// MJCF models. The Scene
 // is the same as a scene file's, so every command and buildWorld take it as they are.
 #pragma once
 
@@ -21,7 +22,15 @@ struct ImportOptions {
 /// problem.
 Scene importUrdf(const std::filesystem::path& path, const ImportOptions& options = {});
 
-/// A model file by its extension: `.urdf` (importUrdf), anything else a JSON scene (loadScene).
+/// Reads a MuJoCo MJCF model (a subset, docs/model-import.md): bodies with their inertials or the
+/// mass of their geoms at their density, sphere/capsule/cylinder/box/plane geoms (fromto too),
+/// hinge, slide, ball and free joints with range, stiffness, damping, frictionloss and ref,
+/// default classes, <include>, equality connect and weld. What linx does not use is named in
+/// Scene::warnings. Throws SceneError naming the file, the element (and its line) and the problem.
+Scene importMjcf(const std::filesystem::path& path, const ImportOptions& options = {});
+
+/// A model file by its extension: `.urdf` (importUrdf), `.xml` (importMjcf), anything else a JSON
+/// scene (loadScene).
 Scene loadModel(const std::filesystem::path& path, const ImportOptions& options = {});
 
 }  // namespace linx

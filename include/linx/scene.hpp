@@ -68,6 +68,10 @@ struct Scene {
 Scene loadScene(const std::filesystem::path& path);
 /// Parses and validates scene text; `file` names it in messages. Throws SceneError.
 Scene parseScene(std::string_view text, const std::string& file);
+/// The scene as the text of a scene file (docs/scene-format.md) that parseScene reads back to a
+/// scene whose world behaves the same to the bit: meshes inline, tables from CSV files inline,
+/// defaults left out. Throws std::runtime_error naming a field no scene file can hold.
+std::string writeSceneJson(const Scene& scene);
 /// Builds the world (bodies in order, then joints, springs and loads). Throws SceneError.
 World buildWorld(const Scene& scene);
 

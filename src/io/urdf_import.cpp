@@ -9,6 +9,7 @@
 // fixed joint is its parent's body.
 #include <linx/import.hpp>
 
+#include "io/import_check.hpp"
 #include "io/mesh_file.hpp"
 
 #include <console_bridge/console.h>
@@ -174,7 +175,7 @@ class UrdfImporter {
     for (const std::string& name : xml.links) attachShapes(name, scene);
     for (const std::string& name : xml.joints)
       if (auto joint = makeJoint(*model_->getJoint(name), scene)) scene.joints.push_back(*joint);
-    checkBuildable(scene);
+    io::completeImported(scene, "link");
     scene.warnings = xml.unsupported.warnings(file_);
     for (const std::string& w : meshes_made_convex_) scene.warnings.push_back(w);
     return scene;
@@ -187,26 +188,6 @@ class UrdfImporter {
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
-  }
-
-  // What World refuses (a bad inertia, a degenerate hull), named by the link or joint it came
-  // from rather than by its place in the Scene.
-  void checkBuildable(const Scene& scene) const {
-    World world(scene.settings);
-    for (const BodyDef& body : scene.bodies) {
-      try {
-        world.createBody(body);
-      } catch (const std::invalid_argument& e) {
-        fail(fmt::format("link '{}'", body.name), e.what());
-      }
-    }
-    for (const SceneJoint& joint : scene.joints) {
-      try {
-        world.createJoint(joint.type, joint.def);
-      } catch (const std::invalid_argument& e) {
-        fail(fmt::format("joint '{}'", joint.def.name), e.what());
-      }
-    }
   }
 
   [[noreturn]] void fail(const std::string& where, const std::string& problem) const {

@@ -1,0 +1,610 @@
+// MuJoCo MJCF models as scenes (docs/model-import.md, "MJCF"): a subset read with tinyxml2.
+//
+// The steps: splice <include> files in; gather <compiler>, <option> and the <default> classes
+// (each class holds its parents' attributes, overridden by its own); walk <worldbody>, placing
+// each body's frame in the world from its parent's, with its geoms as shapes (mass from density
+// unless an <inertial> gives it) and its joint towards its parent; then <equality> constraints.
+// Elements and attributes that linx does not use are counted and named in one warning.
+#include <linx/import.hpp>
+#include <linx/mass_properties.hpp>
+
+#include "io/import_check.hpp"
+
+#include <fmt/format.h>
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace linx {
+namespace {
+
+using tinyxml2::XMLElement;
+
+constexpr int kMaxIncludeDepth = 16;
+constexpr double kDefaultDensity = 1000.0;  // MuJoCo's geom density (kg/m^3)
+
+// Attributes of an element type ("joint", "geom") by name.
+using Attributes = std::map<std::string, std::string>;
+
+class MjcfImporter {
+ public:
+  explicit MjcfImporter(const std::filesystem::path& path) : path_(path), file_(path.string()) {}
+
+  Scene run() {
+    load(path_, doc_);
+    XMLElement* root = doc_.FirstChildElement("mujoco");
+    if (!root) fail("mujoco", "an MJCF file needs a <mujoco> element");
+    spliceIncludes(root, path_.parent_path(), 0);
+    scene_.file = file_;
+    scene_.settings.timestep = 0.002;  // MuJoCo's default
+    for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag == "compiler")
+        compiler(e);
+      else if (tag == "option")
+        option(e);
+      else if (tag == "default")
+        defaults(e, "main", "");
+      else if (tag == "asset")
+        assets(e);
+      else if (tag != "worldbody" && tag != "equality")
+        unused("<" + tag + ">");
+    }
+    for (XMLElement* w = root->FirstChildElement("worldbody"); w;
+         w = w->NextSiblingElement("worldbody"))
+      worldbody(w);
+    for (XMLElement* q = root->FirstChildElement("equality"); q;
+         q = q->NextSiblingElement("equality"))
+      equality(q);
+    warn();
+    io::completeImported(scene_, "body");
+    return std::move(scene_);
+  }
+
+ private:
+  // ---- reading ----
+
+  static void load(const std::filesystem::path& path, tinyxml2::XMLDocument& doc) {
+    if (doc.LoadFile(path.string().c_str()) != tinyxml2::XML_SUCCESS) {
+      if (doc.ErrorID() == tinyxml2::XML_ERROR_FILE_NOT_FOUND ||
+          doc.ErrorID() == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED)
+        throw SceneError(path.string(), "", "cannot open the file");
+      throw SceneError(path.string(), fmt::format("line {}", doc.ErrorLineNum()),
+                       fmt::format("not well-formed XML: {}", doc.ErrorStr()));
+    }
+  }
+
+  // <include file="..."/>: the included file's top-level children (inside its own <mujoco>) take
+  // its place, as MuJoCo does.
+  void spliceIncludes(XMLElement* parent, const std::filesystem::path& dir, int depth) {
+    for (XMLElement* e = parent->FirstChildElement(); e;) {
+      XMLElement* next = e->NextSiblingElement();
+      if (std::string(e->Name()) == "include") {
+        if (depth >= kMaxIncludeDepth)
+          fail("include", fmt::format("more than {} nested includes", kMaxIncludeDepth));
+        const char* name = e->Attribute("file");
+        if (!name) fail("include", "needs a file");
+        const std::filesystem::path included = dir / name;
+        tinyxml2::XMLDocument other;
+        load(included, other);
+        XMLElement* other_root = other.FirstChildElement("mujoco");
+        if (!other_root) throw SceneError(included.string(), "mujoco", "needs a <mujoco> element");
+        spliceIncludes(other_root, included.parent_path(), depth + 1);
+        tinyxml2::XMLNode* after = e;
+        for (XMLElement* c = other_root->FirstChildElement(); c; c = c->NextSiblingElement())
+          after = parent->InsertAfterChild(after, c->DeepClone(&doc_));
+        parent->DeleteChild(e);
+      } else {
+        spliceIncludes(e, dir, depth);
+      }
+      e = next;
+    }
+  }
+
+  [[noreturn]] void fail(const std::string& where, const std::string& problem) const {
+    throw SceneError(file_, where, problem);
+  }
+
+  void unused(const std::string& what) { ++unused_[what]; }
+
+  void warn() {
+    if (unused_.empty()) return;
+    std::string list;
+    for (const auto& [what, count] : unused_)
+      list += fmt::format("{}{}{}", list.empty() ? "" : ", ", what,
+                          count > 1 ? fmt::format(" (x{})", count) : "");
+    scene_.warnings.insert(scene_.warnings.begin(),
+                           fmt::format("{}: not used by linx, ignored: {}", file_, list));
+  }
+
+  static std::string where(const XMLElement* e) {
+    const char* name = e->Attribute("name");
+    return name ? fmt::format("{} '{}' (line {})", e->Name(), name, e->GetLineNum())
+                : fmt::format("{} (line {})", e->Name(), e->GetLineNum());
+  }
+
+  std::vector<double> numbers(const std::string& text, const XMLElement* e,
+                              const std::string& attribute) const {
+    std::istringstream in(text);
+    std::vector<double> out;
+    std::string word;
+    while (in >> word) {
+      std::size_t used = 0;
+      double value = 0.0;
+      try {
+        value = std::stod(word, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != word.size() || !std::isfinite(value))
+        fail(where(e), fmt::format("{}: '{}' is not a finite number", attribute, word));
+      out.push_back(value);
+    }
+    return out;
+  }
+
+  // ---- attributes, with the default classes ----
+
+  // An element's attribute, else its class's default for its kind of element.
+  std::optional<std::string> attribute(const XMLElement* e, const std::string& kind,
+                                       const std::string& cls, const std::string& name) const {
+    if (const char* own = e->Attribute(name.c_str())) return std::string(own);
+    const auto c = defaults_.find(cls);
+    if (c == defaults_.end()) return std::nullopt;
+    const auto k = c->second.find(kind);
+    if (k == c->second.end()) return std::nullopt;
+    const auto a = k->second.find(name);
+    if (a == k->second.end()) return std::nullopt;
+    return a->second;
+  }
+
+  std::optional<std::vector<double>> vector(const XMLElement* e, const std::string& kind,
+                                            const std::string& cls, const std::string& name,
+                                            std::size_t size) const {
+    const auto text = attribute(e, kind, cls, name);
+    if (!text) return std::nullopt;
+    std::vector<double> v = numbers(*text, e, name);
+    if (size && v.size() != size)
+      fail(where(e), fmt::format("{}: needs {} numbers, got {}", name, size, v.size()));
+    return v;
+  }
+
+  double number(const XMLElement* e, const std::string& kind, const std::string& cls,
+                const std::string& name, double otherwise) const {
+    const auto v = vector(e, kind, cls, name, 1);
+    return v ? (*v)[0] : otherwise;
+  }
+
+  // The class an element takes: its own, else the nearest childclass of its bodies, else main.
+  static std::string classOf(const XMLElement* e, const std::string& childclass) {
+    const char* own = e->Attribute("class");
+    return own ? own : childclass;
+  }
+
+  void defaults(XMLElement* d, const std::string& name, const std::string& parent) {
+    if (defaults_.count(name) && name != "main")
+      fail(where(d), "a default class of that name exists");
+    defaults_[name] = parent.empty() ? std::map<std::string, Attributes>{} : defaults_[parent];
+    for (XMLElement* e = d->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string kind = e->Name();
+      if (kind == "default") {
+        const char* child = e->Attribute("class");
+        if (!child) fail(where(e), "a nested default needs a class");
+        defaults(e, child, name);
+        continue;
+      }
+      for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next())
+        defaults_[name][kind][a->Name()] = a->Value();
+    }
+  }
+
+  // ---- top-level settings ----
+
+  void compiler(const XMLElement* e) {
+    if (const char* angle = e->Attribute("angle")) {
+      const std::string a = angle;
+      if (a != "degree" && a != "radian") fail(where(e), "angle: must be degree or radian");
+      degrees_ = a == "degree";
+    }
+    if (const char* seq = e->Attribute("eulerseq")) {
+      euler_sequence_ = seq;
+      const bool ok = euler_sequence_.size() == 3 &&
+                      std::all_of(euler_sequence_.begin(), euler_sequence_.end(), [](char c) {
+                        return std::string("xyzXYZ").find(c) != std::string::npos;
+                      });
+      if (!ok) fail(where(e), "eulerseq: three of x, y, z, X, Y, Z");
+    }
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+      const std::string n = a->Name();
+      if (n != "angle" && n != "eulerseq" && n != "inertiafromgeom" && n != "autolimits")
+        unused(fmt::format("<compiler {}>", n));
+    }
+  }
+
+  void option(const XMLElement* e) {
+    if (e->Attribute("timestep")) scene_.settings.timestep = number(e, "", "", "timestep", 0.0);
+    if (const auto g = vector(e, "", "", "gravity", 3))
+      scene_.settings.gravity = {(*g)[0], (*g)[1], (*g)[2]};
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+      const std::string n = a->Name();
+      if (n != "timestep" && n != "gravity") unused(fmt::format("<option {}>", n));
+    }
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
+      unused(fmt::format("<option><{}>", c->Name()));
+  }
+
+  void assets(const XMLElement* e) {  // textures and materials colour pictures; meshes: not yet
+    for (const XMLElement* a = e->FirstChildElement(); a; a = a->NextSiblingElement())
+      unused(fmt::format("<asset><{}>", a->Name()));
+  }
+
+  // ---- frames ----
+
+  double angle(double value) const { return degrees_ ? value * std::numbers::pi / 180.0 : value; }
+
+  // An element's orientation from whichever of quat, axisangle, euler, xyaxes, zaxis it has.
+  Quat orientation(const XMLElement* e) const {
+    if (const auto q = vector(e, "", "", "quat", 4)) {
+      const Quat out((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
+      if (!(out.norm() > 0)) fail(where(e), "quat: must not be zero");
+      return out.normalized();
+    }
+    if (const auto a = vector(e, "", "", "axisangle", 4)) {
+      const Vec3 axis((*a)[0], (*a)[1], (*a)[2]);
+      if (!(axis.norm() > 0)) fail(where(e), "axisangle: the axis must not be zero");
+      return Quat(Eigen::AngleAxisd(angle((*a)[3]), axis.normalized()));
+    }
+    if (const auto r = vector(e, "", "", "euler", 3)) {
+      Quat q = Quat::Identity();
+      for (int i = 0; i < 3; ++i) {
+        const char c = euler_sequence_[static_cast<std::size_t>(i)];
+        const auto lower = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const Vec3 axis = Vec3::Unit(static_cast<Eigen::Index>(std::string("xyz").find(lower)));
+        const Quat turn(Eigen::AngleAxisd(angle((*r)[static_cast<std::size_t>(i)]), axis));
+        q = lower == c ? q * turn : turn * q;  // lowercase: axes that turn with the frame
+      }
+      return q.normalized();
+    }
+    if (const auto xy = vector(e, "", "", "xyaxes", 6)) {
+      const Vec3 x = Vec3((*xy)[0], (*xy)[1], (*xy)[2]).normalized();
+      Vec3 y((*xy)[3], (*xy)[4], (*xy)[5]);
+      y = (y - y.dot(x) * x).normalized();
+      Mat3 r;
+      r << x, y, x.cross(y);
+      if (!r.allFinite()) fail(where(e), "xyaxes: two independent directions");
+      return Quat(r).normalized();
+    }
+    if (const auto z = vector(e, "", "", "zaxis", 3)) {
+      const Vec3 axis((*z)[0], (*z)[1], (*z)[2]);
+      if (!(axis.norm() > 0)) fail(where(e), "zaxis: must not be zero");
+      return Quat::FromTwoVectors(Vec3::UnitZ(), axis.normalized());
+    }
+    return Quat::Identity();
+  }
+
+  Pose localPose(const XMLElement* e) const {
+    const auto p = vector(e, "", "", "pos", 3);
+    return {p ? Vec3((*p)[0], (*p)[1], (*p)[2]) : Vec3::Zero(), orientation(e)};
+  }
+
+  static Pose compose(const Pose& a, const Pose& b) {
+    return {a.toWorld(b.position), (a.orientation * b.orientation).normalized()};
+  }
+
+  // ---- bodies ----
+
+  void worldbody(XMLElement* w) {
+    for (XMLElement* e = w->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag == "body")
+        body(e, Pose{}, -1, /*parent_moves=*/false, "main");
+      else if (tag == "geom")
+        worldGeom(e, "main");
+      else
+        unused("<" + tag + ">");
+    }
+  }
+
+  // Geoms on the world: shapes of one static body, "world_geoms" ("world" names the frame).
+  void worldGeom(const XMLElement* e, const std::string& cls) {
+    if (world_geoms_ < 0) {
+      BodyDef def;
+      def.name = "world_geoms";
+      def.is_static = true;
+      scene_.bodies.push_back(def);
+      world_geoms_ = static_cast<int>(scene_.bodies.size()) - 1;
+    }
+    const std::string geom_class = classOf(e, cls);
+    ShapeDef s = geom(e, geom_class, /*on_static=*/true, nullptr);
+    place(s, Pose{}, geomPose(e, geom_class));
+    scene_.bodies[static_cast<std::size_t>(world_geoms_)].shapes.push_back(std::move(s));
+  }
+
+  void body(XMLElement* e, const Pose& parent_frame, int parent, bool parent_moves,
+            const std::string& parent_class) {
+    const char* name_attr = e->Attribute("name");
+    const std::string name = name_attr ? name_attr : fmt::format("body{}", scene_.bodies.size());
+    const char* childclass = e->Attribute("childclass");
+    const std::string cls = childclass ? childclass : parent_class;
+    if (childclass && !defaults_.count(cls))
+      fail(where(e), fmt::format("no default class '{}'", cls));
+    const Pose frame = compose(parent_frame, localPose(e));
+
+    std::vector<XMLElement*> joints;
+    bool free = false;
+    for (XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "freejoint")
+        free = true;
+      else if (tag == "joint") {
+        const std::string type = attribute(c, "joint", classOf(c, cls), "type").value_or("hinge");
+        if (type == "free")
+          free = true;
+        else
+          joints.push_back(c);
+      }
+    }
+    if (free && !joints.empty()) fail(where(e), "a free joint and other joints in one body");
+    if (joints.size() > 1)
+      fail(where(e), fmt::format("has {} joints: several joints in one body are not supported yet",
+                                 joints.size()));
+    const bool moves = free || !joints.empty() || parent_moves;
+
+    BodyDef def;
+    def.name = name;
+    def.is_static = !moves;
+    Pose carrier = frame;  // the frame the shapes are placed in
+    const XMLElement* inertial = e->FirstChildElement("inertial");
+    if (inertial && moves) {
+      carrier = compose(frame, localPose(inertial));
+      const double mass = number(inertial, "", "", "mass", 0.0);
+      def.mass = mass;
+      if (const auto d = vector(inertial, "", "", "diaginertia", 3)) {
+        def.inertia = Vec3((*d)[0], (*d)[1], (*d)[2]).asDiagonal();
+      } else if (const auto f = vector(inertial, "", "", "fullinertia", 6)) {
+        Mat3 i;
+        i << (*f)[0], (*f)[3], (*f)[4], (*f)[3], (*f)[1], (*f)[5], (*f)[4], (*f)[5], (*f)[2];
+        def.inertia = i;
+      } else {
+        fail(where(inertial), "needs diaginertia or fullinertia");
+      }
+    }
+    def.position = carrier.position;
+    def.orientation = carrier.orientation;
+    for (XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+      const std::string tag = c->Name();
+      if (tag == "geom") {
+        const std::string geom_class = classOf(c, cls);
+        ShapeDef s = geom(c, geom_class, def.is_static, inertial && moves ? nullptr : &def);
+        place(s, carrier, compose(frame, geomPose(c, geom_class)));
+        def.shapes.push_back(std::move(s));
+      } else if (tag != "body" && tag != "joint" && tag != "freejoint" && tag != "inertial") {
+        unused("<" + tag + ">");
+      }
+    }
+    if (moves && !inertial && def.shapes.empty())
+      fail(where(e), "a moving body needs an <inertial> or geoms to give it a mass");
+    scene_.bodies.push_back(std::move(def));
+    const int index = static_cast<int>(scene_.bodies.size()) - 1;
+    body_index_[name] = index;
+    body_frame_[name] = frame;
+
+    if (!joints.empty())
+      joint(joints[0], classOf(joints[0], cls), frame, index, parent);
+    else if (!free && parent_moves)
+      weld(name, frame.position, index, parent);
+
+    for (XMLElement* c = e->FirstChildElement("body"); c; c = c->NextSiblingElement("body"))
+      body(c, frame, index, moves, cls);
+  }
+
+  void weld(const std::string& name, const Vec3& at, int body1, int body2) {
+    SceneJoint j;
+    j.type = "fixed";
+    j.def.name = name + "_weld";
+    j.def.body1 = BodyId{body1};
+    j.def.body2 = BodyId{body2};
+    j.def.anchor = at;
+    scene_.joints.push_back(std::move(j));
+  }
+
+  void joint(const XMLElement* e, const std::string& cls, const Pose& frame, int body1, int body2) {
+    const std::string type = attribute(e, "joint", cls, "type").value_or("hinge");
+    SceneJoint j;
+    JointDef& def = j.def;
+    def.name = e->Attribute("name")
+                   ? e->Attribute("name")
+                   : scene_.bodies[static_cast<std::size_t>(body1)].name + "_joint";
+    def.body1 = BodyId{body1};
+    def.body2 = BodyId{body2};
+    const auto pos = vector(e, "joint", cls, "pos", 3);
+    def.anchor = frame.toWorld(pos ? Vec3((*pos)[0], (*pos)[1], (*pos)[2]) : Vec3::Zero());
+    const auto axis = vector(e, "joint", cls, "axis", 3);
+    const Vec3 a = axis ? Vec3((*axis)[0], (*axis)[1], (*axis)[2]) : Vec3::UnitZ();
+    if (!(a.norm() > 0)) fail(where(e), "axis: must not be zero");
+    def.axis = frame.orientation * a.normalized();
+    const bool angular = type == "hinge" || type == "ball";
+    const auto scale = [&](double v) { return angular ? angle(v) : v; };
+    CoordinateDef& c = def.coordinates[0];
+
+    const auto range = vector(e, "joint", cls, "range", 2);
+    const std::string limited = attribute(e, "joint", cls, "limited").value_or("auto");
+    if (limited != "true" && limited != "false" && limited != "auto")
+      fail(where(e), "limited: must be true, false or auto");
+    const bool has_limits = limited == "true" || (limited == "auto" && range);
+    if (limited == "true" && !range) fail(where(e), "limited needs a range");
+    if (type == "hinge")
+      j.type = "hinge";
+    else if (type == "slide")
+      j.type = "slider";
+    else if (type == "ball")
+      j.type = "ball";
+    else
+      fail(where(e), fmt::format("type: '{}' is not a joint type linx reads", type));
+
+    if (has_limits && type != "ball") {
+      if (!((*range)[0] <= (*range)[1])) fail(where(e), "range: the lower end is above the upper");
+      c.limits = JointLimits{scale((*range)[0]), scale((*range)[1])};
+    } else if (has_limits) {
+      unused("ball joint range");
+    }
+    c.reference = scale(number(e, "joint", cls, "ref", 0.0));
+    const double stiffness = number(e, "joint", cls, "stiffness", 0.0);
+    const double damping = number(e, "joint", cls, "damping", 0.0);
+    if (stiffness < 0 || damping < 0) fail(where(e), "stiffness and damping must be >= 0");
+    if ((stiffness > 0 || damping > 0) && type != "ball")
+      c.spring = JointSpring{stiffness, damping, scale(number(e, "joint", cls, "springref", 0.0))};
+    else if (stiffness > 0 || damping > 0)
+      unused("ball joint stiffness and damping");
+    const double friction = number(e, "joint", cls, "frictionloss", 0.0);
+    if (friction < 0) fail(where(e), "frictionloss must be >= 0");
+    if (type != "ball") c.friction = friction;
+    if (number(e, "joint", cls, "armature", 0.0) > 0) unused("joint armature");
+    if (type == "ball") c = CoordinateDef{};
+    scene_.joints.push_back(std::move(j));
+  }
+
+  // fromto's segment: its middle and direction as a frame (z along it), and its length.
+  std::pair<Pose, double> fromTo(const std::vector<double>& f, const XMLElement* e) const {
+    const Vec3 from(f[0], f[1], f[2]), to(f[3], f[4], f[5]);
+    if (!((to - from).norm() > 0)) fail(where(e), "fromto: the two ends must differ");
+    return {Pose{0.5 * (from + to), Quat::FromTwoVectors(Vec3::UnitZ(), (to - from).normalized())},
+            (to - from).norm()};
+  }
+
+  // Where a geom is in its body's frame: by fromto, or pos and an orientation.
+  Pose geomPose(const XMLElement* e, const std::string& cls) const {
+    if (const auto f = vector(e, "geom", cls, "fromto", 6)) return fromTo(*f, e).first;
+    return localPose(e);
+  }
+
+  // Places a shape at `world` relative to the frame of the body carrying it.
+  static void place(ShapeDef& s, const Pose& carrier, const Pose& world) {
+    s.position = carrier.toLocal(world.position);
+    s.orientation = (carrier.orientation.conjugate() * world.orientation).normalized();
+  }
+
+  // A geom as a shape (placed by the caller). `density_body`: the body whose mass comes from its
+  // geoms (then the shape takes a density), none when an <inertial> gives it.
+  ShapeDef geom(const XMLElement* e, const std::string& cls, bool on_static,
+                const BodyDef* density_body) const {
+    ShapeDef s;
+    const std::string type = attribute(e, "geom", cls, "type").value_or("sphere");
+    const std::vector<double> size =
+        vector(e, "geom", cls, "size", 0).value_or(std::vector<double>{});
+    const auto need = [&](std::size_t n) {
+      if (size.size() < n) fail(where(e), fmt::format("size: a {} needs {} numbers", type, n));
+    };
+    const auto fromto = vector(e, "geom", cls, "fromto", 6);
+    double half_length = 0.0;
+    if (type == "sphere") {
+      need(1);
+      s.type = ShapeType::Sphere;
+      s.radius = size[0];
+    } else if (type == "capsule" || type == "cylinder") {
+      s.type = type == "capsule" ? ShapeType::Capsule : ShapeType::Cylinder;
+      need(fromto ? 1 : 2);
+      s.radius = size[0];
+      half_length = fromto ? 0.0 : size[1];
+    } else if (type == "box") {
+      need(3);
+      s.type = ShapeType::Box;
+      s.size = 2.0 * Vec3(size[0], size[1], size[2]);
+    } else if (type == "plane") {
+      if (!on_static) fail(where(e), "a plane geom must be on the world or a static body");
+      s.type = ShapeType::Plane;
+      s.normal = Vec3::UnitZ();
+      s.offset = 0.0;
+    } else {
+      fail(where(e), fmt::format("type: '{}' is not a geom type linx reads (sphere, capsule, "
+                                 "cylinder, box, plane)",
+                                 type));
+    }
+    if (fromto) {
+      if (s.type != ShapeType::Capsule && s.type != ShapeType::Cylinder)
+        fail(where(e), "fromto: only on capsules and cylinders here");
+      half_length = 0.5 * (fromTo(*fromto, e).second);
+    }
+    if (s.type == ShapeType::Capsule || s.type == ShapeType::Cylinder) s.length = 2.0 * half_length;
+    const auto friction = vector(e, "geom", cls, "friction", 0);
+    if (friction && !friction->empty()) s.friction = (*friction)[0];
+    s.group = static_cast<std::uint32_t>(number(e, "geom", cls, "contype", 1.0));
+    s.mask = static_cast<std::uint32_t>(number(e, "geom", cls, "conaffinity", 1.0));
+    if (density_body && isSolid(s.type)) {
+      const auto mass = vector(e, "geom", cls, "mass", 1);
+      s.density =
+          mass ? (*mass)[0] / shapeVolume(s) : number(e, "geom", cls, "density", kDefaultDensity);
+    }
+    return s;
+  }
+
+  void equality(const XMLElement* q) {
+    for (const XMLElement* e = q->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag != "connect" && tag != "weld") {
+        unused("<equality><" + tag + ">");
+        continue;
+      }
+      if (const char* active = e->Attribute("active"); active && std::string(active) == "false")
+        continue;
+      const auto body = [&](const char* attribute_name, bool required) {
+        const char* n = e->Attribute(attribute_name);
+        if (!n || std::string(n) == "world") {
+          if (required) fail(where(e), fmt::format("needs {}", attribute_name));
+          return -1;
+        }
+        const auto it = body_index_.find(n);
+        if (it == body_index_.end())
+          fail(where(e), fmt::format("{}: no body '{}'", attribute_name, n));
+        return it->second;
+      };
+      SceneJoint j;
+      j.def.name = e->Attribute("name") ? e->Attribute("name")
+                                        : fmt::format("equality{}", scene_.joints.size());
+      j.def.body1 = BodyId{body("body1", true)};
+      j.def.body2 = BodyId{body("body2", false)};
+      const Pose& frame1 = body_frame_.at(e->Attribute("body1"));
+      if (tag == "connect") {
+        j.type = "ball";
+        const auto anchor = vector(e, "", "", "anchor", 3);
+        if (!anchor) fail(where(e), "a connect needs an anchor");
+        j.def.anchor = frame1.toWorld(Vec3((*anchor)[0], (*anchor)[1], (*anchor)[2]));
+      } else {
+        j.type = "fixed";
+        if (e->Attribute("relpose")) unused("weld relpose");
+      }
+      for (const char* a : {"solref", "solimp"})
+        if (e->Attribute(a)) unused(fmt::format("equality {}", a));
+      scene_.joints.push_back(std::move(j));
+    }
+  }
+
+  std::filesystem::path path_;
+  std::string file_;
+  tinyxml2::XMLDocument doc_;
+  Scene scene_;
+  bool degrees_ = true;  // MuJoCo's default
+  std::string euler_sequence_ = "xyz";
+  std::map<std::string, std::map<std::string, Attributes>> defaults_;
+  std::map<std::string, int> body_index_;
+  std::map<std::string, Pose> body_frame_;
+  std::map<std::string, int> unused_;
+  int world_geoms_ = -1;
+};
+
+}  // namespace
+
+Scene importMjcf(const std::filesystem::path& path, const ImportOptions&) {
+  return MjcfImporter(path).run();
+}
+
+}  // namespace linx

@@ -1,0 +1,269 @@
+// MJCF import against independent truths: a pendulum placed by euler angles and quaternions, with
+// its inertial offset and turned, on an oblique hinge, swings with the physical pendulum's exact
+// period; a body's mass from its geoms is the solids' closed form; default classes, childclass,
+// <include> and degrees are read as MuJoCo reads them; an equality connect pins a body like a
+// hinge; what linx does not use is named; bad files are refused with the element and its line.
+#include "support.hpp"
+
+#include <linx/import.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+namespace linx {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = std::numbers::pi;
+
+class MjcfImport : public ::testing::Test {
+ protected:
+  fs::path write(const std::string& name, const std::string& text) const {
+    return folder_.write(name, text);
+  }
+
+  test::TempFolder folder_{
+      "linx_mjcf_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())};
+  const fs::path& dir_ = folder_.path();
+};
+
+Mat3 turn(const Vec3& axis, double degrees) {
+  return Eigen::AngleAxisd(degrees * kPi / 180.0, axis.normalized()).toRotationMatrix();
+}
+
+// Euler angles in degrees about the axes that turn with the frame, x then y then z (MuJoCo's
+// default eulerseq "xyz").
+Mat3 euler(double x, double y, double z) {
+  return turn(Vec3::UnitX(), x) * turn(Vec3::UnitY(), y) * turn(Vec3::UnitZ(), z);
+}
+
+const char* kPendulum = R"(<mujoco model="pendulum">
+  <option timestep="0.001" gravity="0 0 -9.81"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1" pos="0 0 -3"/>
+    <body name="bob" pos="0.1 0.2 1" euler="20 -10 30">
+      <joint name="swing" type="hinge" pos="0.02 0 0.03" axis="0.6 0.8 0"/>
+      <inertial pos="0.05 -0.3 0.1" quat="0.9 0.1 0.2 -0.3" mass="2" diaginertia="0.02 0.03 0.04"/>
+      <geom type="sphere" size="0.05" pos="0.05 -0.3 0.1"/>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+TEST_F(MjcfImport, TurnedPendulumSwingsWithThePhysicalPendulumsPeriod) {
+  const Scene scene = importMjcf(write("pendulum.xml", kPendulum));
+  ASSERT_EQ(scene.bodies.size(), 2u);  // the floor's static body, the bob
+  ASSERT_EQ(scene.joints.size(), 1u);
+  EXPECT_EQ(scene.settings.timestep, 0.001);
+
+  const Mat3 frame = euler(20, -10, 30);
+  const Vec3 origin(0.1, 0.2, 1.0);
+  const Vec3 pivot = origin + frame * Vec3(0.02, 0, 0.03);
+  const Vec3 axis = (frame * Vec3(0.6, 0.8, 0)).normalized();
+  const Vec3 com = origin + frame * Vec3(0.05, -0.3, 0.1);
+  const Mat3 principal = frame * Quat(0.9, 0.1, 0.2, -0.3).normalized().toRotationMatrix();
+  const Mat3 inertia_world =
+      principal * Vec3(0.02, 0.03, 0.04).asDiagonal() * principal.transpose();
+  const test::PendulumOnAxis truth =
+      test::pendulumOnAxis(pivot, axis, com, inertia_world, 2.0, Vec3(0, 0, -9.81));
+  ASSERT_GT(truth.amplitude, 0.3);
+  ASSERT_LT(truth.amplitude, 2.5);
+
+  World world = buildWorld(scene);
+  const test::Oscillation swing = test::jointOscillation(world, JointId{0}, 6000);
+  ASSERT_GE(swing.crossings, 3u);
+  std::printf(
+      "pendulum: amplitude %.6f rad (closed form %.6f), period %.9f s (closed form %.9f "
+      "s, relative error %.2e)\n",
+      swing.amplitude, truth.amplitude, swing.period, truth.period,
+      swing.period / truth.period - 1.0);
+  EXPECT_NEAR(swing.amplitude / truth.amplitude - 1.0, 0.0, 1e-3);  // released from rest
+  EXPECT_NEAR(swing.period / truth.period - 1.0, 0.0, 1e-3);
+}
+
+TEST_F(MjcfImport, MassFromGeomsIsTheSolidsClosedForm) {
+  const char* text = R"(<mujoco>
+    <worldbody>
+      <body name="dumbbell" pos="0 0 1">
+        <freejoint/>
+        <geom type="capsule" fromto="-0.2 0 0 0.2 0 0" size="0.05" density="500"/>
+        <geom type="box" size="0.05 0.1 0.15" pos="0.3 0 0" mass="2"/>
+        <geom type="cylinder" size="0.04 0.1" pos="-0.3 0 0" quat="0.7071068 0 0.7071068 0"/>
+      </body>
+    </worldbody>
+  </mujoco>)";
+  const Scene scene = importMjcf(write("dumbbell.xml", text));
+  ASSERT_EQ(scene.bodies.size(), 1u);
+  EXPECT_TRUE(scene.joints.empty());  // free
+  const double capsule = 500.0 * (kPi * 0.05 * 0.05 * 0.4 + 4.0 / 3.0 * kPi * std::pow(0.05, 3));
+  const double box = 2.0;
+  const double cylinder = 1000.0 * kPi * 0.04 * 0.04 * 0.2;  // MuJoCo's default density
+  const double mass = capsule + box + cylinder;
+  const double x = (box * 0.3 - cylinder * 0.3) / mass;
+  World world = buildWorld(scene);
+  const Body& b = world.body(BodyId{0});
+  EXPECT_NEAR(b.mass() / mass - 1.0, 0.0, 1e-12);
+  EXPECT_NEAR(b.position().x(), x, 1e-12);
+  EXPECT_NEAR(b.position().z(), 1.0, 1e-12);
+  // The cylinder's axis was turned to x: its moment about x is m r^2 / 2.
+  const Mat3 inertia = b.inertiaWorld();
+  const double r2 = 0.05 * 0.05;  // the capsule about its axis: its cylinder and its two caps
+  const double ixx = 500.0 * kPi * r2 * 0.4 * r2 / 2.0 +
+                     0.4 * 500.0 * 4.0 / 3.0 * kPi * 0.05 * r2 * r2 +
+                     box / 12.0 * (0.2 * 0.2 + 0.3 * 0.3) + cylinder * 0.04 * 0.04 / 2.0;
+  EXPECT_NEAR(inertia(0, 0) / ixx - 1.0, 0.0, 1e-9);
+}
+
+TEST_F(MjcfImport, DefaultClassesChildclassIncludeAndDegrees) {
+  write("arm_defaults.xml", R"(<mujoco>
+    <default>
+      <joint damping="1" stiffness="3"/>
+      <default class="soft">
+        <joint damping="0.5" frictionloss="0.1"/>
+        <default class="stiff"><joint stiffness="30" springref="10"/></default>
+      </default>
+    </default>
+  </mujoco>)");
+  const char* text = R"(<mujoco>
+    <include file="arm_defaults.xml"/>
+    <worldbody>
+      <body name="upper" pos="0 0 2">
+        <joint name="shoulder" class="stiff" axis="0 1 0" range="-90 90" ref="5"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05"/>
+        <body name="lower" pos="0 0 -1" childclass="soft">
+          <joint name="elbow" axis="0 1 0" range="-45 90"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -1" size="0.05"/>
+        </body>
+      </body>
+    </worldbody>
+  </mujoco>)";
+  const Scene scene = importMjcf(write("arm.xml", text));
+  ASSERT_EQ(scene.joints.size(), 2u);
+  const CoordinateDef& shoulder = scene.joints[0].def.coordinates[0];
+  ASSERT_TRUE(shoulder.spring && shoulder.limits);
+  EXPECT_EQ(shoulder.spring->stiffness, 30.0);  // "stiff"
+  EXPECT_EQ(shoulder.spring->damping, 0.5);     // inherited from "soft"
+  EXPECT_DOUBLE_EQ(shoulder.spring->rest, 10.0 * kPi / 180.0);
+  EXPECT_DOUBLE_EQ(shoulder.reference, 5.0 * kPi / 180.0);
+  EXPECT_DOUBLE_EQ(shoulder.limits->lower, -kPi / 2);
+  EXPECT_EQ(shoulder.friction, 0.1);
+  const CoordinateDef& elbow = scene.joints[1].def.coordinates[0];  // childclass "soft"
+  ASSERT_TRUE(elbow.spring && elbow.limits);
+  EXPECT_EQ(elbow.spring->stiffness, 3.0);  // from main
+  EXPECT_EQ(elbow.spring->damping, 0.5);
+  EXPECT_DOUBLE_EQ(elbow.limits->upper, kPi / 2);
+  EXPECT_EQ(scene.joints[1].def.body2, BodyId{0});
+  EXPECT_TRUE(scene.joints[1].def.anchor->isApprox(Vec3(0, 0, 1)));
+  EXPECT_NO_THROW(buildWorld(scene));
+}
+
+TEST_F(MjcfImport, ConnectEqualityPinsABodyLikeAHinge) {
+  // A free 1 m rod pinned to the world at its end by a connect (a ball joint), released level:
+  // nothing pushes it out of its vertical plane, so it swings as a physical pendulum of amplitude
+  // 90 degrees about its end.
+  const char* text = R"(<mujoco>
+    <option timestep="0.001"/>
+    <worldbody>
+      <body name="rod" pos="0 0 0">
+        <freejoint/>
+        <inertial pos="0.5 0 0" mass="1" diaginertia="0.0001 0.083333333333333 0.083333333333333"/>
+      </body>
+    </worldbody>
+    <equality><connect body1="rod" anchor="0 0 0"/></equality>
+  </mujoco>)";
+  const Scene scene = importMjcf(write("pin.xml", text));
+  ASSERT_EQ(scene.joints.size(), 1u);
+  EXPECT_EQ(scene.joints[0].type, "ball");
+  World world = buildWorld(scene);
+  std::vector<double> t, z;
+  for (int i = 0; i < 5000; ++i) {
+    world.step();
+    t.push_back(world.time());
+    z.push_back(world.body(BodyId{0}).position().x());
+  }
+  const std::vector<double> up = test::upwardCrossings(t, z);
+  ASSERT_GE(up.size(), 2u);
+  const double measured = (up.back() - up.front()) / static_cast<double>(up.size() - 1);
+  const double period = test::pendulumPeriod(0.083333333333333 + 0.25, 1.0, 9.81, 0.5, kPi / 2);
+  std::printf("connect: period %.9f s (closed form %.9f s)\n", measured, period);
+  EXPECT_NEAR(measured / period - 1.0, 0.0, 1e-3);
+}
+
+TEST_F(MjcfImport, WhatLinxDoesNotUseIsNamedInOneWarning) {
+  const char* text = R"(<mujoco>
+    <compiler angle="radian" coordinate="local"/>
+    <asset><texture name="t" builtin="flat"/></asset>
+    <worldbody>
+      <light pos="0 0 3"/>
+      <body name="a" pos="0 0 1">
+        <joint name="j" axis="0 1 0" armature="0.1"/>
+        <geom type="sphere" size="0.1"/>
+        <site name="s"/>
+      </body>
+    </worldbody>
+    <actuator><motor joint="j" gear="10"/><motor joint="j" gear="5"/></actuator>
+    <sensor><jointpos joint="j"/></sensor>
+  </mujoco>)";
+  const Scene scene = importMjcf(write("extras.xml", text));
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  const std::string& w = scene.warnings[0];
+  for (const char* named : {"<actuator>", "<sensor>", "<light>", "<site>", "joint armature",
+                            "<compiler coordinate>", "<asset><texture>"})
+    EXPECT_NE(w.find(named), std::string::npos) << named << " not in: " << w;
+}
+
+TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
+  const auto refused = [&](const std::string& text, const std::string& expected) {
+    const fs::path file = write("bad.xml", text);
+    try {
+      importMjcf(file);
+      ADD_FAILURE() << "accepted; expected: " << expected;
+    } catch (const SceneError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(file.string()), std::string::npos) << what;
+      EXPECT_NE(what.find(expected), std::string::npos) << what;
+    }
+  };
+  refused("<mujoco><worldbody>", "not well-formed XML");
+  refused("<robot/>", "needs a <mujoco> element");
+  refused(
+      "<mujoco><worldbody>\n<body name='b'><joint/><joint/><geom size='1'/></body>"
+      "</worldbody></mujoco>",
+      "body 'b' (line 2): has 2 joints: several joints in one body are not supported yet");
+  refused(
+      "<mujoco><worldbody><body><freejoint/><geom type='ellipsoid' size='1 2 3'/></body>"
+      "</worldbody></mujoco>",
+      "type: 'ellipsoid' is not a geom type linx reads");
+  refused("<mujoco><worldbody><body><freejoint/><geom size='1 x'/></body></worldbody></mujoco>",
+          "size: 'x' is not a finite number");
+  refused("<mujoco><worldbody><body name='b'><joint/></body></worldbody></mujoco>",
+          "body 'b' (line 1): a moving body needs an <inertial> or geoms");
+  write("bad.xml", "<mujoco><include file='nowhere.xml'/></mujoco>");
+  try {
+    importMjcf(dir_ / "bad.xml");
+    ADD_FAILURE() << "a missing include was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file(), (dir_ / "nowhere.xml").string());
+    EXPECT_EQ(e.problem(), "cannot open the file");
+  }
+  refused(
+      "<mujoco><worldbody><body><joint range='1 -1'/><geom size='1'/></body></worldbody>"
+      "</mujoco>",
+      "range: the lower end is above the upper");
+  refused(
+      "<mujoco><worldbody><body childclass='nope'><freejoint/><geom size='1'/></body>"
+      "</worldbody></mujoco>",
+      "no default class 'nope'");
+  refused(
+      "<mujoco><worldbody><body name='b'><freejoint/>"
+      "<inertial mass='1' diaginertia='1 -1 1'/></body></worldbody></mujoco>",
+      "body 'b': inertia: ");
+}
+
+}  // namespace
+}  // namespace linx
