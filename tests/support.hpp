@@ -58,6 +58,21 @@ inline std::vector<double> upwardCrossings(const std::vector<double>& t,
   return out;
 }
 
+/// A solver's name, for messages and the names of tests run with each solver.
+inline const char* solverName(SolverType type) {
+  return solverTypeName(type).data();
+}
+
+/// The settings of a test run with each solver: h = 1 ms, that solver, and no sleeping (the test
+/// watches the motion to its end).
+inline WorldSettings solverSettings(SolverType type) {
+  WorldSettings s;
+  s.timestep = 1e-3;
+  s.solver.type = type;
+  s.sleep.enabled = false;
+  return s;
+}
+
 /// An oscillation sampled at times t: its amplitude (half its range) and its mean period, from
 /// the upward crossings of its middle (zero periods when it crossed fewer than twice).
 struct Oscillation {

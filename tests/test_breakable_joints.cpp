@@ -16,23 +16,11 @@ namespace {
 
 constexpr double kG = 9.81;
 
-const char* name(SolverType t) {
-  return solverTypeName(t).data();
-}
-
-WorldSettings settings(SolverType type) {
-  WorldSettings s;
-  s.timestep = 1e-3;
-  s.solver.type = type;
-  s.sleep.enabled = false;
-  return s;
-}
-
 class BreakableJoint : public testing::TestWithParam<SolverType> {};
 
 TEST_P(BreakableJoint, HangingWeightBreaksAtItsThresholdThenFalls) {
   constexpr double m = 2.0, rate = 10.0, threshold = 30.005, h = 1e-3;
-  World world(settings(GetParam()));
+  World world(test::solverSettings(GetParam()));
   const BodyId weight =
       world.createBody(test::boxBody("weight", m, Vec3(0.1, 0.1, 0.1), Vec3(0, 0, 1)));
   const JointId hook = world.createJoint(
@@ -49,7 +37,7 @@ TEST_P(BreakableJoint, HangingWeightBreaksAtItsThresholdThenFalls) {
   const JointBreak& b = world.jointBreaks()[0];
   const double carried = m * kG + rate * (b.step - 1) * h;
   std::printf("%s: broke in step %lld (expected %d) at t = %.3f s, force %.9f N (m g + F = %.9f)\n",
-              name(GetParam()), static_cast<long long>(b.step), expected, b.time,
+              test::solverName(GetParam()), static_cast<long long>(b.step), expected, b.time,
               b.reaction.force.norm(), carried);
   EXPECT_EQ(b.joint, hook);
   EXPECT_EQ(b.step, expected);
@@ -69,7 +57,7 @@ TEST_P(BreakableJoint, HangingWeightBreaksAtItsThresholdThenFalls) {
 TEST_P(BreakableJoint, CantileverBreaksAtItsTorqueThreshold) {
   // A 1 kg, 1 m bar welded to the world at its end x = 0; a tip load F = c t at x = 1.
   constexpr double m = 1.0, l = 1.0, rate = 2.0, threshold = 6.0, h = 1e-3;
-  World world(settings(GetParam()));
+  World world(test::solverSettings(GetParam()));
   const BodyId bar =
       world.createBody(test::boxBody("bar", m, Vec3(l, 0.05, 0.05), Vec3(l / 2, 0, 0)));
   const JointId weld = world.createJoint(
@@ -85,8 +73,8 @@ TEST_P(BreakableJoint, CantileverBreaksAtItsTorqueThreshold) {
   const JointBreak& b = world.jointBreaks()[0];
   const double carried = m * kG * l / 2 + rate * (b.step - 1) * h * l;
   std::printf("%s: broke in step %lld (expected %d), torque %.9f N m (m g l/2 + F l = %.9f)\n",
-              name(GetParam()), static_cast<long long>(b.step), expected, b.reaction.torque.norm(),
-              carried);
+              test::solverName(GetParam()), static_cast<long long>(b.step), expected,
+              b.reaction.torque.norm(), carried);
   EXPECT_EQ(b.joint, weld);
   EXPECT_EQ(b.step, expected);
   // The weld holds the bar up: its torque on the bar about the root is -y (x cross z).
@@ -96,7 +84,9 @@ TEST_P(BreakableJoint, CantileverBreaksAtItsTorqueThreshold) {
 INSTANTIATE_TEST_SUITE_P(Solvers, BreakableJoint,
                          testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs,
                                          SolverType::Soft),
-                         [](const auto& info) { return std::string(name(info.param)); });
+                         [](const auto& info) {
+                           return std::string(test::solverName(info.param));
+                         });
 
 TEST(BreakableJointDefinition, RefusedWithTheFieldNamed) {
   World world;
@@ -123,7 +113,7 @@ TEST(BreakableJointDefinition, RefusedWithTheFieldNamed) {
 }
 
 TEST(BreakableJointDefinition, DisabledByHandActsNoMore) {
-  World world(settings(SolverType::Auto));
+  World world(test::solverSettings(SolverType::Auto));
   const BodyId bob =
       world.createBody(test::boxBody("bob", 1.0, Vec3(0.1, 0.1, 0.1), Vec3(0, 0, -1)));
   const JointId pivot = world.createJoint(

@@ -49,10 +49,6 @@ double rate(const Oscillator& o) {
 }
 
 // The solver's name, for messages (solverTypeName's views are of string literals).
-const char* name(SolverType t) {
-  return solverTypeName(t).data();
-}
-
 class SpringOscillator : public testing::TestWithParam<SolverType> {};
 
 TEST_P(SpringOscillator, KeepsItsPeriodAndAmplitudeOverTenPeriods) {
@@ -79,7 +75,7 @@ TEST_P(SpringOscillator, KeepsItsPeriodAndAmplitudeOverTenPeriods) {
   };
   const double first = peak(0, 100), last = peak(900, 1000);
   std::printf("%s: period %.6f s (closed form %.6f, %.2e), amplitude %.6f -> %.6f m (%.2e)\n",
-              name(GetParam()), measured, period, measured / period - 1.0, first, last,
+              test::solverName(GetParam()), measured, period, measured / period - 1.0, first, last,
               last / first - 1.0);
   EXPECT_NEAR(measured / period, 1.0, 5e-4);
   EXPECT_NEAR(first, 0.1, 1e-3);
@@ -102,7 +98,7 @@ TEST_P(SpringOscillator, CriticallyDampedDoesNotOvershoot) {
     highest = std::max(highest, x);
   }
   std::printf("%s: largest deviation from the closed form %.2e m, highest %.2e m\n",
-              name(GetParam()), worst, highest);
+              test::solverName(GetParam()), worst, highest);
   EXPECT_LT(worst, 0.01 * A);  // first order in h: omega h A = 5e-4 m
   EXPECT_LE(highest, 1e-9 * A);
 }
@@ -122,8 +118,8 @@ TEST_P(SpringOscillator, StiffSpringStaysStableAtTenTimesTheStepRate) {
     o.world.step();
     highest = std::max(highest, energy());
   }
-  std::printf("%s: energy %.4g J at the start, highest %.4g, at the end %.4g\n", name(GetParam()),
-              e0, highest, energy());
+  std::printf("%s: energy %.4g J at the start, highest %.4g, at the end %.4g\n",
+              test::solverName(GetParam()), e0, highest, energy());
   EXPECT_LE(highest, e0 * (1.0 + 1e-9));
   EXPECT_LT(energy(), 1e-3 * e0);  // and it settles
 }
@@ -138,15 +134,17 @@ TEST_P(SpringOscillator, DampedVelocityMotorApproachesItsSpeedExponentially) {
     o.world.step();
     worst = std::max(worst, std::abs(rate(o) - vt * (1.0 - std::exp(-c * o.world.time() / m))));
   }
-  std::printf("%s: largest deviation from v_t (1 - exp(-c t / m)): %.2e m/s\n", name(GetParam()),
-              worst);
+  std::printf("%s: largest deviation from v_t (1 - exp(-c t / m)): %.2e m/s\n",
+              test::solverName(GetParam()), worst);
   EXPECT_LT(worst, 2e-3 * vt);  // implicit Euler's first-order error, c h / (2 m) of v_t
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, SpringOscillator,
                          testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs,
                                          SolverType::Soft),
-                         [](const auto& info) { return std::string(name(info.param)); });
+                         [](const auto& info) {
+                           return std::string(test::solverName(info.param));
+                         });
 
 struct Rod {
   World world;
@@ -190,8 +188,8 @@ TEST(TorsionSpring, RodOscillatesWithThePeriodOfItsPivotInertia) {
     double first = 0.0, last = 0.0;
     for (int i = 0; i < 100; ++i) first = std::max(first, std::abs(x[std::size_t(i)]));
     for (int i = 900; i < 1000; ++i) last = std::max(last, std::abs(x[std::size_t(i)]));
-    std::printf("%s: period %.6f s (closed form %.6f), amplitude %.6f -> %.6f rad\n", name(type),
-                measured, period, first, last);
+    std::printf("%s: period %.6f s (closed form %.6f), amplitude %.6f -> %.6f rad\n",
+                test::solverName(type), measured, period, first, last);
     EXPECT_NEAR(measured / period, 1.0, 5e-4);
     EXPECT_NEAR(last / first, 1.0, 5e-3);
     EXPECT_LT(r.world.maxJointError(), 1e-9);
@@ -220,7 +218,7 @@ TEST(Servo, StiffestGainIsStableAtAMillisecondAndSettlesOnItsTarget) {
         std::printf(
             "%s, damping %.3g, target %.2f: after 1 s %.10f rad, |w| %.2e rad/s, widest "
             "%.5f\n",
-            name(type), damping, target, angle, w, widest);
+            test::solverName(type), damping, target, angle, w, widest);
         EXPECT_NEAR(angle, target, 1e-7);
         EXPECT_LT(w, 1e-4);
         EXPECT_LT(widest, target * (target < 0.1 ? 1.01 : 1.1));
@@ -248,7 +246,7 @@ TEST(Servo, SaturatedServoAcceleratesAtItsMaximumTorque) {
       worst = std::max(worst, std::abs(r.world.jointCoordinates(r.hinge)[0] / exact - 1.0));
     }
     std::printf("%s: angle %.9f rad after 0.5 s, worst against the discrete closed form %.2e\n",
-                name(type), r.world.jointCoordinates(r.hinge)[0], worst);
+                test::solverName(type), r.world.jointCoordinates(r.hinge)[0], worst);
     // The torque is exact; what is left is the rod's turning about a pivot integrated as a free
     // body held by velocity rows and projected back (second order in h: 6e-7 here).
     EXPECT_LT(worst, 2e-6);
@@ -288,7 +286,7 @@ TEST(Servo, FollowsARampWithoutLag) {
       if (t >= 1.0) (t < 2.0 ? ramp : corner) = std::max(t < 2.0 ? ramp : corner, e);
     }
     std::printf("%s: from 1 to 2 s at most %.2e rad from the moving target, after its stop %.2e\n",
-                name(type), ramp, corner);
+                test::solverName(type), ramp, corner);
     EXPECT_LT(ramp, 1e-8);
     // The stop at 2 s starts the transient again: 0.5 t exp(-omega t) peaks at 0.5 / (e omega),
     // 1.05e-3 rad.
@@ -311,8 +309,8 @@ TEST(Motor, VelocityTableIsFollowedExactly) {
       worst =
           std::max(worst, std::abs(r.world.jointCoordinates(r.hinge)[0] - h * h * n * (n + 1.0)));
     }
-    std::printf("%s: angle %.9f rad at 1 s, worst against h^2 n (n + 1) %.2e\n", name(type),
-                r.world.jointCoordinates(r.hinge)[0], worst);
+    std::printf("%s: angle %.9f rad at 1 s, worst against h^2 n (n + 1) %.2e\n",
+                test::solverName(type), r.world.jointCoordinates(r.hinge)[0], worst);
     EXPECT_LT(worst, 1e-9);
   }
 }

@@ -14,16 +14,9 @@ namespace {
 
 constexpr double kG = 9.81;
 
-const char* name(SolverType t) {
-  return solverTypeName(t).data();
-}
-
 WorldSettings settings(SolverType type, bool gravity) {
-  WorldSettings s;
-  s.timestep = 1e-3;
-  s.solver.type = type;
+  WorldSettings s = test::solverSettings(type);
   if (!gravity) s.gravity.setZero();
-  s.sleep.enabled = false;
   return s;
 }
 
@@ -60,7 +53,7 @@ TEST_P(JointFriction, BlockSlidesDownARailAtGravityLessFriction) {
     const double exact = 0.5 * h * h * a * n * (n + 1.0);
     worst = std::max(worst, std::abs(r.world.jointCoordinates(r.slider)[0] - exact));
   }
-  std::printf("%s: s(1 s) %.9f m (closed form %.9f), worst %.2e m\n", name(GetParam()),
+  std::printf("%s: s(1 s) %.9f m (closed form %.9f), worst %.2e m\n", test::solverName(GetParam()),
               r.world.jointCoordinates(r.slider)[0], 0.5 * a * 1.001, worst);
   EXPECT_LT(worst, 1e-6);
 }
@@ -68,7 +61,7 @@ TEST_P(JointFriction, BlockSlidesDownARailAtGravityLessFriction) {
 TEST_P(JointFriction, BlockHeldWhenFrictionExceedsItsWeight) {
   Rail r = makeRail(GetParam(), Vec3::UnitZ(), 30.0);  // m g = 19.62 N < 30 N
   for (int n = 0; n < 500; ++n) r.world.step();
-  std::printf("%s: held at %.2e m, reaction %.6f N (weight %.6f N)\n", name(GetParam()),
+  std::printf("%s: held at %.2e m, reaction %.6f N (weight %.6f N)\n", test::solverName(GetParam()),
               r.world.jointCoordinates(r.slider)[0], r.world.jointReaction(r.slider).force.z(),
               2.0 * kG);
   EXPECT_NEAR(r.world.jointCoordinates(r.slider)[0], 0.0, 1e-6);
@@ -102,7 +95,8 @@ TEST_P(JointFriction, WheelSpinsDownAtFrictionTorqueAndStops) {
   std::printf(
       "%s: rate within %.2e rad/s of w0 - T t / I, stopped after %.6f rad (closed form %.6f), "
       "rate after %.2e rad/s\n",
-      name(GetParam()), worst_rate, angle, turned, world.body(wheel).angularVelocity().norm());
+      test::solverName(GetParam()), worst_rate, angle, turned,
+      world.body(wheel).angularVelocity().norm());
   // In the step that stops it the friction row is not at its bound: its softness lets through
   // kFrictionSoftness of the rate change the friction impulse makes, 1e-6 h T / I = 2.5e-9 rad/s.
   EXPECT_LT(worst_rate, 3e-9);
@@ -132,8 +126,8 @@ TEST_P(JointFriction, LimitAndFrictionHoldTogether) {
     // Thrown back up (the step keeps the angular momentum about the hinge: 5 rad/s).
     if (n == 1000) world.body(arm).setAngularVelocity(Vec3(0, -20.0, 0));
   }
-  std::printf("%s: highest %.9f rad (limit 0.2), rests at %.9f\n", name(GetParam()), highest,
-              world.jointCoordinates(hinge)[0]);
+  std::printf("%s: highest %.9f rad (limit 0.2), rests at %.9f\n", test::solverName(GetParam()),
+              highest, world.jointCoordinates(hinge)[0]);
   EXPECT_LT(highest, 0.2 + 1e-6);
   EXPECT_NEAR(world.jointCoordinates(hinge)[0], 0.2, 1e-6);  // back on it
 }
@@ -141,7 +135,9 @@ TEST_P(JointFriction, LimitAndFrictionHoldTogether) {
 INSTANTIATE_TEST_SUITE_P(Solvers, JointFriction,
                          testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs,
                                          SolverType::Soft),
-                         [](const auto& info) { return std::string(name(info.param)); });
+                         [](const auto& info) {
+                           return std::string(test::solverName(info.param));
+                         });
 
 TEST(JointFrictionDefinition, RefusedWithTheFieldNamed) {
   World world;

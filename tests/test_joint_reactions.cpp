@@ -39,10 +39,6 @@ Rod makeRod(SolverType type, bool hanging, bool gravity = true) {
 }
 
 // The solver's name, for messages (solverTypeName's views are of string literals).
-const char* name(SolverType t) {
-  return solverTypeName(t).data();
-}
-
 TEST(JointReaction, HeldRodCarriesItsWeightAndItsMoment) {
   // Held still by a motor at zero speed, the rod's weight hangs on the pivot: the joint pushes up
   // with m g and turns it with -m g L/2 about y (gravity's moment about the pivot is +m g L/2).
@@ -55,9 +51,9 @@ TEST(JointReaction, HeldRodCarriesItsWeightAndItsMoment) {
       for (int i = 0; i < 100; ++i) r.world.step();
       const JointReaction j = r.world.jointReaction(r.hinge);
       const Vec3 moment = hanging ? Vec3::Zero() : Vec3(0, -0.5 * kG, 0);
-      std::printf("%s, %s: force (%.9f, %.3g, %.3g) N, torque (%.3g, %.9f, %.3g) N m\n", name(type),
-                  hanging ? "hanging" : "held", j.force.x(), j.force.y(), j.force.z(), j.torque.x(),
-                  j.torque.y(), j.torque.z());
+      std::printf("%s, %s: force (%.9f, %.3g, %.3g) N, torque (%.3g, %.9f, %.3g) N m\n",
+                  test::solverName(type), hanging ? "hanging" : "held", j.force.x(), j.force.y(),
+                  j.force.z(), j.torque.x(), j.torque.y(), j.torque.z());
       EXPECT_LT((j.force - Vec3(0, 0, kG)).norm(), 1e-6 * kG);
       EXPECT_LT((j.torque - moment).norm(), 1e-6 * kG);
     }
@@ -98,7 +94,8 @@ TEST(JointReaction, SaturatedServoTurnsWithItsMaximumTorque) {
         JointMotor{.max_force = 2.0, .target_position = 10.0, .stiffness = 1e6});
     for (int i = 0; i < 300; ++i) r.world.step();
     const JointReaction j = r.world.jointReaction(r.hinge);
-    std::printf("%s: torque about the axis %.12f N m\n", name(type), j.torque.dot(Vec3::UnitY()));
+    std::printf("%s: torque about the axis %.12f N m\n", test::solverName(type),
+                j.torque.dot(Vec3::UnitY()));
     EXPECT_NEAR(j.torque.dot(Vec3::UnitY()), 2.0, 1e-9);
   }
 }

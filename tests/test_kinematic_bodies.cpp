@@ -19,10 +19,6 @@ namespace {
 
 constexpr double kG = 9.81;
 
-const char* name(SolverType t) {
-  return solverTypeName(t).data();
-}
-
 ShapeDef box(const Vec3& size, double friction) {
   ShapeDef s;
   s.type = ShapeType::Box;
@@ -55,7 +51,7 @@ TEST_P(KinematicBody, BeltCarriesABoxAfterItSlidesToItsSpeed) {
   std::printf(
       "%s: belt at %.9f m (v t = %.9f), box %.9f m/s, behind by %.6f m (v^2 / (2 mu g) = "
       "%.6f), box z %.6f\n",
-      name(GetParam()), world.body(b).position().x(), v * world.time(),
+      test::solverName(GetParam()), world.body(b).position().x(), v * world.time(),
       world.body(l).linearVelocity().x(), behind, lag, world.body(l).position().z());
   EXPECT_NEAR(world.body(b).position().x(), v * world.time(), 1e-12);  // unmoved by the box
   EXPECT_EQ(world.body(b).linearVelocity(), Vec3(v, 0, 0));
@@ -82,8 +78,9 @@ TEST_P(KinematicBody, LiftRaisesABoxAtItsSpeed) {
   world.body(b).setLinearVelocity(Vec3(0, 0, v));
   for (int n = 0; n < 1000; ++n) world.step();
   const double gap = world.body(l).position().z() - world.body(b).position().z();
-  std::printf("%s: lift at %.9f m, box %.6f m above it, rising at %.9f m/s\n", name(GetParam()),
-              world.body(b).position().z(), gap, world.body(l).linearVelocity().z());
+  std::printf("%s: lift at %.9f m, box %.6f m above it, rising at %.9f m/s\n",
+              test::solverName(GetParam()), world.body(b).position().z(), gap,
+              world.body(l).linearVelocity().z());
   EXPECT_NEAR(world.body(b).position().z(), v * 1.0, 1e-12);
   EXPECT_NEAR(gap, 0.15, 2e-3);
   EXPECT_NEAR(world.body(l).linearVelocity().z(), v, 1e-6);
@@ -110,7 +107,7 @@ TEST_P(KinematicBody, PendulumOnAMovingPivotHangsStill) {
           .name = "pivot", .body1 = p, .body2 = c, .anchor = Vec3(0, 0, 2), .axis = Vec3::UnitY()});
   for (int n = 0; n < 2000; ++n) world.step();
   std::printf("%s: angle %.2e rad, bob off the pivot's line %.2e m, joint error %.2e m\n",
-              name(GetParam()), world.jointCoordinates(pivot)[0],
+              test::solverName(GetParam()), world.jointCoordinates(pivot)[0],
               (world.body(p).position() - world.body(c).position() - Vec3(0, 0, -1)).norm(),
               world.maxJointError());
   EXPECT_LT(std::abs(world.jointCoordinates(pivot)[0]), 1e-9);
@@ -150,7 +147,7 @@ TEST_P(KinematicBody, FollowsItsPathAndPushesABoxAlong) {
     worst = std::max(worst, (world.body(p).position() - Vec3(x, 0, 0.1)).norm());
   }
   std::printf("%s: pusher off its path by %.2e m at most; box pushed to x = %.4f m\n",
-              name(GetParam()), worst, world.body(l).position().x());
+              test::solverName(GetParam()), worst, world.body(l).position().x());
   EXPECT_LT(worst, 1e-12);
   EXPECT_GT(world.body(l).position().x(), 0.5 + 0.15 - 1e-3);  // ahead of the pusher's reach
   BodyDef astray;                                              // a path on a dynamic body
@@ -164,7 +161,9 @@ TEST_P(KinematicBody, FollowsItsPathAndPushesABoxAlong) {
 INSTANTIATE_TEST_SUITE_P(Solvers, KinematicBody,
                          testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs,
                                          SolverType::Soft),
-                         [](const auto& info) { return std::string(name(info.param)); });
+                         [](const auto& info) {
+                           return std::string(test::solverName(info.param));
+                         });
 
 TEST(KinematicBodyDefinition, RefusedWithTheFieldNamed) {
   World world;

@@ -15,18 +15,6 @@ namespace {
 
 constexpr double kG = 9.81;
 
-const char* name(SolverType t) {
-  return solverTypeName(t).data();
-}
-
-WorldSettings settings(SolverType type) {
-  WorldSettings s;
-  s.timestep = 1e-3;
-  s.solver.type = type;
-  s.sleep.enabled = false;
-  return s;
-}
-
 class PrescribedMotion : public testing::TestWithParam<SolverType> {};
 
 TEST_P(PrescribedMotion, BlockOnARailFollowsASineWithMassTimesAcceleration) {
@@ -37,7 +25,7 @@ TEST_P(PrescribedMotion, BlockOnARailFollowsASineWithMassTimesAcceleration) {
     times.push_back(k * h);
     values.push_back(amplitude * std::sin(w * k * h));
   }
-  World world(settings(GetParam()));
+  World world(test::solverSettings(GetParam()));
   const BodyId block =
       world.createBody(test::boxBody("block", m, Vec3(0.1, 0.1, 0.1), Vec3(0, 0, 1)));
   const JointId rail = world.createJoint(
@@ -58,7 +46,7 @@ TEST_P(PrescribedMotion, BlockOnARailFollowsASineWithMassTimesAcceleration) {
     }
   }
   std::printf("%s: worst position %.2e m, worst force %.2e N (amplitude %.4f N)\n",
-              name(GetParam()), worst_x, worst_f, m * amplitude * w * w);
+              test::solverName(GetParam()), worst_x, worst_f, m * amplitude * w * w);
   EXPECT_LT(worst_x, 1e-9);
   EXPECT_LT(worst_f, 1e-3 * m * amplitude * w * w);
 }
@@ -67,7 +55,7 @@ TEST_P(PrescribedMotion, PendulumTurnedAtAConstantRateNeedsGravitysTorque) {
   // A 1 kg point-like bob on a light rod of 0.5 m about a horizontal hinge (y), driven from
   // hanging at 3 rad/s for a whole turn and more.
   constexpr double m = 1.0, l = 0.5, rate = 3.0;
-  World world(settings(GetParam()));
+  World world(test::solverSettings(GetParam()));
   BodyDef def;
   def.name = "bob";
   def.mass = m;
@@ -97,8 +85,8 @@ TEST_P(PrescribedMotion, PendulumTurnedAtAConstantRateNeedsGravitysTorque) {
   std::printf(
       "%s: angle after 3 s %.12f rad (3 rad/s: %.12f), worst %.2e rad, worst torque "
       "%.2e N m (m g l = %.4f)\n",
-      name(GetParam()), world.jointCoordinates(hinge)[0], 9.0, worst_angle, worst_torque,
-      m * kG * l);
+      test::solverName(GetParam()), world.jointCoordinates(hinge)[0], 9.0, worst_angle,
+      worst_torque, m * kG * l);
   EXPECT_LT(worst_angle, 1e-9);
   EXPECT_LT(worst_torque, 2e-3 * m * kG * l);
 }
@@ -106,7 +94,9 @@ TEST_P(PrescribedMotion, PendulumTurnedAtAConstantRateNeedsGravitysTorque) {
 INSTANTIATE_TEST_SUITE_P(Solvers, PrescribedMotion,
                          testing::Values(SolverType::Auto, SolverType::Exact, SolverType::Pgs,
                                          SolverType::Soft),
-                         [](const auto& info) { return std::string(name(info.param)); });
+                         [](const auto& info) {
+                           return std::string(test::solverName(info.param));
+                         });
 
 TEST(PrescribedMotionDefinition, RefusedWithTheFieldNamed) {
   World world;
