@@ -48,6 +48,18 @@ inline BodyDef boxBody(const std::string& name, double m, const Vec3& size, cons
   return d;
 }
 
+/// A static body "ground" whose one shape is the plane z = 0.
+inline BodyDef groundPlane() {
+  BodyDef ground;
+  ground.name = "ground";
+  ground.is_static = true;
+  ShapeDef plane;
+  plane.type = ShapeType::Plane;
+  plane.normal = Vec3::UnitZ();
+  ground.shapes.push_back(plane);
+  return ground;
+}
+
 /// Times at which a sampled signal crosses zero upwards, by linear interpolation.
 inline std::vector<double> upwardCrossings(const std::vector<double>& t,
                                            const std::vector<double>& y) {

@@ -121,14 +121,7 @@ TEST_P(KinematicBody, FollowsItsPathAndPushesABoxAlong) {
   WorldSettings s;
   s.solver.type = GetParam();
   World world(s);
-  BodyDef ground;
-  ground.name = "ground";
-  ground.is_static = true;
-  ShapeDef plane;
-  plane.type = ShapeType::Plane;
-  plane.normal = Vec3::UnitZ();
-  ground.shapes.push_back(plane);
-  world.createBody(ground);
+  world.createBody(test::groundPlane());
   BodyDef pusher;
   pusher.name = "pusher";
   pusher.kinematic = true;

@@ -27,14 +27,7 @@ BodyDef cube(const std::string& name, const Vec3& position) {
 
 TEST(WorldChanges, BodiesAndJointsAddedBetweenStepsTakePart) {
   World world;
-  BodyDef ground;
-  ground.name = "ground";
-  ground.is_static = true;
-  ShapeDef plane;
-  plane.type = ShapeType::Plane;
-  plane.normal = Vec3::UnitZ();
-  ground.shapes.push_back(plane);
-  world.createBody(ground);
+  world.createBody(test::groundPlane());
   const BodyId a = world.createBody(cube("a", Vec3(0, 0, 0.5)));
   for (int n = 0; n < 1000; ++n) world.step();
   ASSERT_TRUE(world.isAsleep(a));
