@@ -73,8 +73,12 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       JointDef def{.name = "j", .anchor = test::randomVec(rng, 1.0)};
       def.axis = test::randomVec(rng, 1.0);
       def.axis2 = def.axis.unitOrthogonal();
-      for (int i = 0; i < type.freeCoordinates(); ++i)
-        def.coordinates[static_cast<std::size_t>(i)].friction = 1.0;
+      if (type.uses_axes)  // a serial joint: a hinge, a slide and a hinge, anywhere
+        def.axes = {{false, test::randomVec(rng, 1.0), test::randomVec(rng, 1.0)},
+                    {true, test::randomVec(rng, 1.0), Vec3::Zero()},
+                    {false, test::randomVec(rng, 1.0), test::randomVec(rng, 1.0)}};
+      const int free = type.freeCoordinates(def);
+      for (int i = 0; i < free; ++i) def.coordinates[static_cast<std::size_t>(i)].friction = 1.0;
       std::unique_ptr<Joint> joint = makeJoint(type.name, def, b1, b2);
       // A generic joint constrains nothing of itself: every pose is one it allows, so it is
       // checked away from its pose of creation (angles up to a radian, ry off gimbal lock).
@@ -106,7 +110,7 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       const JointCoordinates rate = (joint->coordinates(advance(b1, eps), advance(b2, eps)) -
                                      joint->coordinates(advance(b1, -eps), advance(b2, -eps))) /
                                     (2 * eps);
-      for (int i = 0; i < type.freeCoordinates(); ++i) {
+      for (int i = 0; i < free; ++i) {
         const auto row = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {
           return r.key == static_cast<std::uint64_t>(joints::coordinateSlot(i, 4));
         });
@@ -118,8 +122,8 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       }
     }
   }
-  // slider, hinge, universal, cylindrical, hinge2, cone-twist, planar, generic, spring
-  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 1 + 3 + 6 + 1));
+  // slider, hinge, universal, cylindrical, hinge2, cone-twist, planar, generic, spring, serial
+  EXPECT_EQ(checked, 20 * (1 + 1 + 2 + 2 + 3 + 1 + 3 + 6 + 1 + 3));
 }
 
 WorldSettings settings(bool gravity) {

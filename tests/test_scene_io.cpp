@@ -681,7 +681,8 @@ TEST(SceneError, Joints) {
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
        "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
-       "hinge2, distance, cone_twist, planar, gear, generic, spring or rack_and_pinion)"},
+       "hinge2, distance, cone_twist, planar, gear, generic, spring, rack_and_pinion or "
+       "serial)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {joint(R"({"name": "u", "type": "universal", "body1": "a", "anchor": [0,0,0],
@@ -817,8 +818,7 @@ TEST(SceneError, Joints) {
          s["joints"][0]["friction"] = 1;
        },
        "joints[0].friction", "a prescribed coordinate takes nothing else"},
-      {[](json& s) { s["joints"][0]["break_force"] = 0; }, "joints[0].break_force",
-       "must be > 0"},
+      {[](json& s) { s["joints"][0]["break_force"] = 0; }, "joints[0].break_force", "must be > 0"},
       {[](json& s) { s["joints"][0]["prescribed"] = "fast"; }, "joints[0].prescribed",
        "expected a number or a table"},
       {joint(R"({"name": "d", "type": "distance", "body1": "a"})"), "joints[0].anchor2",

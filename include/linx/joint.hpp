@@ -87,14 +87,27 @@ struct CoordinateDef {
   /// World::setJointCoordinate) moves body1's side of the mechanism there once every joint is
   /// made, so that a model built straight starts bent. None: where it was built.
   std::optional<double> initial = std::nullopt;
+  /// (kg m^2 for an angle, kg for a linear coordinate), >= 0: the inertia of a rotor geared to
+  /// the coordinate (a motor's armature, MJCF's `armature`): it adds armature x'^2 / 2 to the
+  /// kinetic energy, so the coordinate accelerates as if this much inertia were added along it.
+  /// Integrated implicitly (docs/joints.md).
+  double armature = 0.0;
 
   bool empty() const {
-    return !limits && !motor && !spring && friction == 0.0 && !locked && !prescribed;
+    return !limits && !motor && !spring && friction == 0.0 && !locked && !prescribed &&
+           armature == 0.0;
   }
 };
 
 /// The most free coordinates a joint type has (a generic joint's six).
 inline constexpr int kMaxCoordinates = 6;
+
+/// One hinge or slide of a serial joint (JointDef::axes), world frame at creation.
+struct SerialAxis {
+  bool linear = false;         ///< a slide along `axis` (else a hinge about it)
+  Vec3 axis = Vec3::UnitZ();   ///< non-zero direction
+  Vec3 anchor = Vec3::Zero();  ///< a point on a hinge's axis (m); a slide does not use it
+};
 
 /// Plain definition of a joint. All fields in the world frame at creation. Not every type uses
 /// every field: a ball joint has no axis, a fixed joint neither axis nor coordinates.
@@ -120,6 +133,10 @@ struct JointDef {
   std::optional<double> length = std::nullopt;
   /// Distance joint: a rope, which only keeps the points within `length` (else a rod, at it).
   bool rope = false;
+  /// Serial joint: its hinges and slides (1 to 6, independent), in order from body 2 to body 1:
+  /// body 1 moves on axes[k-1], which moves on axes[k-2], ..., on axes[0], fixed in body 2, as a
+  /// body with several joints in MJCF. Coordinate i is axes[i]'s angle or position.
+  std::vector<SerialAxis> axes = {};
   /// Limits, drives, springs and friction of the type's free coordinates, in the order of
   /// JointTypeInfo::coordinates (a hinge's angle is coordinates[0]); the rest stay empty.
   std::array<CoordinateDef, kMaxCoordinates> coordinates = {};
@@ -207,6 +224,8 @@ class Joint {
   BodyId body1() const { return def_.body1; }
   BodyId body2() const { return def_.body2; }
   const JointDef& def() const { return def_; }
+  /// How many free coordinates the joint has (JointTypeInfo::freeCoordinates of its definition).
+  int freeCoordinates() const;
   /// Set or remove the motor, limits, spring or friction of free coordinate `coordinate` (the
   /// order of JointTypeInfo::coordinates); throws std::invalid_argument as makeJoint does.
   void setMotor(std::optional<JointMotor> motor, int coordinate = 0);
@@ -254,10 +273,14 @@ struct JointTypeInfo {
   bool uses_cone = false;    ///< JointDef::cone
   /// JointDef::ratio; `axis` and `axis2` need not be perpendicular (a gear joint).
   bool uses_ratio = false;
+  /// JointDef::axes (a serial joint): its free coordinates are one per axis, not `coordinates`'.
+  bool uses_axes = false;
   /// The coordinates Joint::coordinates reports, in order.
   std::span<const CoordinateInfo> coordinates = {};
   /// How many of them are free (take limits, drives, springs, friction): the first ones.
   int freeCoordinates() const;
+  /// The same for a joint of this type defined by `def` (a serial joint's: one per axis).
+  int freeCoordinates(const JointDef& def) const;
 };
 
 /// The registered joint types, in registration order.

@@ -37,8 +37,9 @@ SceneError::SceneError(std::string file, std::string field, std::string problem)
 namespace {
 
 // What acts on a joint's free coordinate (CoordinateDef).
-constexpr std::string_view kCoordinateFields[] = {"limits", "motor",      "spring",    "friction",
-                                                  "locked", "prescribed", "reference", "initial"};
+constexpr std::string_view kCoordinateFields[] = {"limits",    "motor",   "spring",
+                                                  "friction",  "locked",  "prescribed",
+                                                  "reference", "initial", "armature"};
 
 using json = nlohmann::json;
 
@@ -801,11 +802,12 @@ class Reader {
     }
     // A joint with one free coordinate takes its limits, motor, spring and friction as its own
     // fields; one with several, in an object per coordinate named as the type names it.
-    const int free = fields->freeCoordinates();
+    // A serial joint takes them in each of its axes.
+    const int free = fields->uses_axes ? 0 : fields->freeCoordinates();
     std::vector<std::string_view> allowed{
-        "name",  "type", "body1", "body2",       "anchor",      "axis",    "axis1",
-        "axis2", "erp",  "cfm",   "collide",     "anchor1",     "anchor2", "length",
-        "rope",  "cone", "ratio", "break_force", "break_torque"};
+        "name",  "type", "body1", "body2",       "anchor",       "axis",    "axis1",
+        "axis2", "erp",  "cfm",   "collide",     "anchor1",      "anchor2", "length",
+        "rope",  "cone", "ratio", "break_force", "break_torque", "axes"};
     allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
@@ -879,6 +881,11 @@ class Reader {
       allowOnly(*v, {"swing1", "swing2"});
       d.cone = ConeLimit{angleBelowPi(require(*v, "swing1")), angleBelowPi(require(*v, "swing2"))};
     }
+    if (fields->uses_axes) {
+      serialAxes(require(n, "axes"), d);
+    } else {
+      unused("axes");
+    }
     if (free == 1) {
       d.coordinates[0] = coordinate(n);
     } else if (free > 1) {
@@ -903,6 +910,36 @@ class Reader {
     if (auto v = get(n, "break_force")) d.break_force = positive(*v);
     if (auto v = get(n, "break_torque")) d.break_torque = positive(*v);
     return joint;
+  }
+
+  // A serial joint's axes: each a hinge or a slider, with what acts on its coordinate.
+  void serialAxes(const Node& n, JointDef& d) const {
+    expectArray(n);
+    if (n.value.empty() || n.value.size() > static_cast<std::size_t>(kMaxCoordinates))
+      fail(n.path,
+           fmt::format("a serial joint has 1 to {} axes, not {}", kMaxCoordinates, n.value.size()));
+    for (std::size_t i = 0; i < n.value.size(); ++i) {
+      const Node item{n.value[i], itemPath(n.path, i)};
+      expectObject(item);
+      std::vector<std::string_view> allowed{"type", "axis", "anchor"};
+      allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
+      allowOnly(item, allowed);
+      const Node type = require(item, "type");
+      const std::string kind = string(type);
+      if (kind != "hinge" && kind != "slider")
+        fail(type.path, fmt::format("unknown axis type '{}' (expected hinge or slider)", kind));
+      SerialAxis axis;
+      axis.linear = kind == "slider";
+      axis.axis = direction(require(item, "axis"));
+      if (axis.linear) {
+        if (item.value.contains("anchor"))
+          fail(childPath(item.path, "anchor"), "not used by a slider axis");
+      } else {
+        axis.anchor = vec3(require(item, "anchor"));
+      }
+      d.axes.push_back(axis);
+      d.coordinates[i] = coordinate(item);
+    }
   }
 
   // A body named in a spring, force or torque.
@@ -1036,6 +1073,10 @@ class Reader {
       for (std::string_view key : {"limits", "motor", "spring", "friction", "prescribed"})
         if (c.locked && n.value.contains(key))
           fail(childPath(n.path, key), "a locked coordinate takes nothing else");
+    }
+    if (auto v = get(n, "armature")) {
+      c.armature = nonNegative(*v);
+      if (c.locked) fail(v->path, "a locked coordinate does not move");
     }
     if (auto v = get(n, "reference")) c.reference = number(*v);
     if (auto v = get(n, "initial")) {

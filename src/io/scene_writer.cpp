@@ -460,7 +460,19 @@ class Writer {
   // coordinate named as the type names it.
   static void coordinates(json& j, const JointTypeInfo& info, const JointDef& d,
                           const std::string& path) {
-    const int free = info.freeCoordinates();
+    const int free = info.freeCoordinates(d);
+    if (info.uses_axes) {  // each axis with what acts on its coordinate
+      json axes = json::array();
+      for (std::size_t i = 0; i < d.axes.size(); ++i) {
+        const std::string item = itemPath(childPath(path, "axes"), i);
+        json axis = {{"type", d.axes[i].linear ? "slider" : "hinge"},
+                     {"axis", direction(d.axes[i].axis, childPath(item, "axis"))}};
+        if (!d.axes[i].linear) axis["anchor"] = vec3(d.axes[i].anchor, childPath(item, "anchor"));
+        if (i < d.coordinates.size()) axis.update(coordinate(d.coordinates[i], item));
+        axes.push_back(std::move(axis));
+      }
+      j["axes"] = std::move(axes);
+    }
     for (int i = 0; i < kMaxCoordinates; ++i) {
       const CoordinateDef& c = d.coordinates[static_cast<std::size_t>(i)];
       if (i >= free) {
@@ -469,6 +481,7 @@ class Writer {
                fmt::format("a {} joint has {} free coordinates", info.name, free));
         continue;
       }
+      if (info.uses_axes) continue;  // written with its axis
       if (free == 1) {
         j.update(coordinate(c, path));
         continue;
@@ -489,6 +502,7 @@ class Writer {
     putIfChanged(j, "friction", c.friction, d.friction, path);
     putIfChanged(j, "locked", c.locked, d.locked);
     if (c.prescribed) j["prescribed"] = signal(*c.prescribed, childPath(path, "prescribed"));
+    putIfChanged(j, "armature", c.armature, d.armature, path);
     putIfChanged(j, "reference", c.reference, d.reference, path);
     if (c.initial) j["initial"] = number(*c.initial, childPath(path, "initial"));
     return j;

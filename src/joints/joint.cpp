@@ -18,15 +18,20 @@ namespace {
 template <class Edit>
 JointDef edited(const Joint& joint, int index, Edit&& edit) {
   const JointTypeInfo& type = *findJointType(joint.type());
-  if (index < 0 || index >= type.freeCoordinates())
+  if (index < 0 || index >= joint.freeCoordinates())
     throw std::invalid_argument(fmt::format("coordinate {}: a {} joint has {} free coordinates",
-                                            index, type.name, type.freeCoordinates()));
+                                            index, type.name, joint.freeCoordinates()));
   JointDef next = joint.def();
   edit(next.coordinates[static_cast<std::size_t>(index)]);
   joints::validate(type, next);
   return next;
 }
 }  // namespace
+
+int Joint::freeCoordinates() const {
+  const JointTypeInfo* type = findJointType(this->type());
+  return type ? type->freeCoordinates(def_) : 0;
+}
 
 void Joint::setMotor(std::optional<JointMotor> motor, int coordinate) {
   def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.motor = std::move(motor); });

@@ -10,6 +10,7 @@
 #include "joints/hinge_joint.hpp"
 #include "joints/planar_joint.hpp"
 #include "joints/rack_pinion_joint.hpp"
+#include "joints/serial_joint.hpp"
 #include "joints/slider_joint.hpp"
 #include "joints/spring_joint.hpp"
 #include "joints/universal_joint.hpp"
@@ -47,8 +48,11 @@ constexpr CoordinateInfo kLength[] = {{"length", true, false}};  // reported, no
 constexpr CoordinateInfo kFreeLength[] = {{"length", true}};
 constexpr CoordinateInfo kRackPinion[] = {{"angle", false, false}, {"position", true, false}};
 constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
+// A serial joint's are its axes' (JointDef::axes), angles or positions as each axis is.
+constexpr CoordinateInfo kSerial[] = {{"axes[0]"}, {"axes[1]"}, {"axes[2]"},
+                                      {"axes[3]"}, {"axes[4]"}, {"axes[5]"}};
 
-constexpr std::array<JointTypeInfo, 14> kInfo{{
+constexpr std::array<JointTypeInfo, 15> kInfo{{
     {.name = "fixed"},
     {.name = "slider", .uses_axis = true, .coordinates = kPosition},
     {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
@@ -92,13 +96,14 @@ constexpr std::array<JointTypeInfo, 14> kInfo{{
      .uses_axis2 = true,
      .uses_ratio = true,
      .coordinates = kRackPinion},
+    {.name = "serial", .uses_axes = true, .coordinates = kSerial},
 }};
 constexpr std::array<Maker, kInfo.size()> kMake{
-    &make<joints::FixedJoint>,  &make<joints::SliderJoint>,    &make<joints::HingeJoint>,
-    &make<joints::BallJoint>,   &make<joints::UniversalJoint>, &make<joints::CylindricalJoint>,
-    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,  &make<joints::ConeTwistJoint>,
-    &make<joints::PlanarJoint>, &make<joints::GearJoint>,      &make<joints::GenericJoint>,
-    &make<joints::SpringJoint>, &make<joints::RackPinionJoint>};
+    &make<joints::FixedJoint>,  &make<joints::SliderJoint>,     &make<joints::HingeJoint>,
+    &make<joints::BallJoint>,   &make<joints::UniversalJoint>,  &make<joints::CylindricalJoint>,
+    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,   &make<joints::ConeTwistJoint>,
+    &make<joints::PlanarJoint>, &make<joints::GearJoint>,       &make<joints::GenericJoint>,
+    &make<joints::SpringJoint>, &make<joints::RackPinionJoint>, &make<joints::SerialJoint>};
 
 }  // namespace
 
@@ -127,6 +132,11 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument(
         fmt::format("{}: not used by a {} joint", def.length ? "length" : "rope", t.name));
   }
+  if (t.uses_axes) {
+    validateAxes(def.axes);
+  } else if (!def.axes.empty()) {
+    throw std::invalid_argument(fmt::format("axes: not used by a {} joint", t.name));
+  }
   if (t.uses_ratio && !(std::isfinite(def.ratio) && def.ratio != 0.0))
     throw std::invalid_argument("ratio: must be finite and non-zero");
   if (def.cone) {
@@ -144,40 +154,55 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     throw std::invalid_argument("erp: must be in [0, 1]");
   if (def.cfm && !(*def.cfm >= 0.0 && std::isfinite(*def.cfm)))
     throw std::invalid_argument("cfm: must be finite and >= 0");
+  const int free = t.freeCoordinates(def);
   for (int i = 0; i < kMaxCoordinates; ++i) {
     const CoordinateDef& c = def.coordinates[static_cast<std::size_t>(i)];
-    if (i >= t.freeCoordinates()) {
+    if (i >= free) {
       if (c.empty() && c.reference == 0.0 && !c.initial)
         continue;
-      else if (t.freeCoordinates() == 0)
+      else if (free == 0)
         throw std::invalid_argument(
             fmt::format("a {} joint takes no limits, motor, spring or friction", t.name));
       else
         throw std::invalid_argument(
             fmt::format("coordinates[{}]: a {} joint has {} free "
                         "coordinates",
-                        i, t.name, t.freeCoordinates()));
+                        i, t.name, free));
     }
-    // Messages name the coordinate as scene files do: "angle1.limits: ...", or "limits: ..." for
-    // a joint with one.
+    // Messages name the coordinate as scene files do: "angle1.limits: ...", "axes[1].limits: ...",
+    // or "limits: ..." for a joint with one.
     const std::string prefix =
-        t.freeCoordinates() == 1
+        free == 1 && !t.uses_axes
             ? ""
             : fmt::format("{}.", t.coordinates[static_cast<std::size_t>(i)].name);
     validateCoordinate(c, prefix);
   }
 }
 
-void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
-  if (c.locked && (c.limits || c.motor || c.spring || c.friction != 0.0))
+void validateAxes(const std::vector<SerialAxis>& axes) {
+  if (axes.empty() || axes.size() > static_cast<std::size_t>(kMaxCoordinates))
     throw std::invalid_argument(
-        prefix + "locked: a locked coordinate takes no limits, motor, spring or friction");
+        fmt::format("axes: a serial joint has 1 to {} axes, not {}", kMaxCoordinates, axes.size()));
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    if (!(axes[i].axis.allFinite() && axes[i].axis.norm() > 1e-12))
+      throw std::invalid_argument(
+          fmt::format("axes[{}].axis: must be a finite non-zero vector", i));
+    if (!axes[i].anchor.allFinite())
+      throw std::invalid_argument(fmt::format("axes[{}].anchor: not a finite vector", i));
+  }
+}
+
+void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
+  if (c.locked && (c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0))
+    throw std::invalid_argument(
+        prefix +
+        "locked: a locked coordinate takes no limits, motor, spring, friction or armature");
   if (c.prescribed) {
-    if (c.locked || c.limits || c.motor || c.spring || c.friction != 0.0)
+    if (c.locked || c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0)
       throw std::invalid_argument(
           prefix +
-          "prescribed: a prescribed coordinate takes no limits, motor, spring, friction or "
-          "lock");
+          "prescribed: a prescribed coordinate takes no limits, motor, spring, friction, "
+          "armature or lock");
     validateSignal(*c.prescribed, prefix + "prescribed");
   }
   if (!std::isfinite(c.reference))
@@ -190,6 +215,8 @@ void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
     throw std::invalid_argument(prefix + "limits: lower must not exceed upper");
   if (!(std::isfinite(c.friction) && c.friction >= 0.0))
     throw std::invalid_argument(prefix + "friction: must be finite and >= 0");
+  if (!(std::isfinite(c.armature) && c.armature >= 0.0))
+    throw std::invalid_argument(prefix + "armature: must be finite and >= 0");
   try {
     if (c.motor) validateMotor(*c.motor);
     if (c.spring) validateSpring(*c.spring);
@@ -246,6 +273,10 @@ int JointTypeInfo::freeCoordinates() const {
   while (n < static_cast<int>(coordinates.size()) && coordinates[static_cast<std::size_t>(n)].free)
     ++n;
   return n;
+}
+
+int JointTypeInfo::freeCoordinates(const JointDef& def) const {
+  return uses_axes ? static_cast<int>(def.axes.size()) : freeCoordinates();
 }
 
 std::span<const JointTypeInfo> jointTypes() {

@@ -247,4 +247,10 @@ void driveRow(const JointContext& ctx, double stiffness, double damping, double 
   row.hi = h * max_force;
 }
 
+void armatureRow(const JointContext& ctx, double armature, Row& row) {
+  const double rate = rowRate(row, ctx.b1, ctx.b2);
+  row.phi = 0.0;
+  driveRow(ctx, 0.0, armature / ctx.h, rate, kInfinity, row);
+}
+
 }  // namespace linx::joints

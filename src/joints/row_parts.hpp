@@ -152,8 +152,13 @@ double implicitShare(double stiffness, double inverse_mass, double h);
 void driveRow(const JointContext& ctx, double stiffness, double damping, double target_rate,
               double max_force, Row& row);
 
+/// Turns a coordinate row into the armature A of a coordinate (CoordinateDef::armature): a damper
+/// of A / h towards the rate at the step's start, so that its impulse A (x'0 - x'+) is the rotor's
+/// change of momentum: implicit, the coordinate moves as if A were added to its inertia.
+void armatureRow(const JointContext& ctx, double armature, Row& row);
+
 /// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction, 5 lock,
-/// 6 prescribed)
+/// 6 prescribed, 7 armature)
 /// of free coordinate `index`: after every joint's equality rows (slots below 16).
 constexpr int coordinateSlot(int index, int part) {
   return 16 + 8 * index + part;
@@ -162,8 +167,8 @@ constexpr int coordinateSlot(int index, int part) {
 constexpr bool isPrescribedSlot(int slot) {
   return slot >= 16 && (slot - 16) % 8 == 6;
 }
-/// Rows a free coordinate may add: two limits, a motor, a spring, friction.
-inline constexpr int kCoordinateRows = 5;
+/// Rows a free coordinate may add: two limits, a motor, a spring, friction, armature.
+inline constexpr int kCoordinateRows = 6;
 
 /// Appends the limit rows (only those reached), the motor row, the spring row and the friction row
 /// of free coordinate `index` (as `c` defines them) to rows[n...]; `coordinateRow(row)` fills a
@@ -219,6 +224,10 @@ int coordinateRows(const JointContext& ctx, const CoordinateDef& c, int index, d
   }
   if (c.friction > 0.0) {
     frictionRow(ctx, c.friction, next(4));
+    ++n;
+  }
+  if (c.armature > 0.0) {
+    armatureRow(ctx, c.armature, next(7));
     ++n;
   }
   return n;

@@ -5,6 +5,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace linx::joints {
 
@@ -12,6 +13,9 @@ namespace linx::joints {
 /// [0, 1], a negative cfm, a coordinate the type does not have, and what validateCoordinate
 /// refuses.
 void validate(const JointTypeInfo& type, const JointDef& def);
+/// A serial joint's axes: 1 to kMaxCoordinates, each a finite non-zero direction with a finite
+/// anchor (their independence is checked by the joint, which knows the bodies).
+void validateAxes(const std::vector<SerialAxis>& axes);
 /// Inverted limits, negative friction, and what validateMotor and validateSpring refuse; `prefix`
 /// starts the message ("angle1." or nothing).
 void validateCoordinate(const CoordinateDef& coordinate, const std::string& prefix);

@@ -30,7 +30,7 @@ JointContext contextOf(std::span<const Body> bodies, const Joint& j, const Solve
   // Only drives (servos, springs) and friction read the inertia: the others skip rotating it to the
   // world.
   const auto drives = [](const CoordinateDef& c) {
-    return c.spring || (c.motor && c.motor->isServo()) || c.friction > 0.0;
+    return c.spring || (c.motor && c.motor->isServo()) || c.friction > 0.0 || c.armature > 0.0;
   };
   if (std::any_of(def.coordinates.begin(), def.coordinates.end(), drives)) {
     ctx.m1 = inertiaOf(bodies, j.body1());

@@ -66,8 +66,7 @@ BodyState moved(BodyState s, const Vec6& dx) {
 void moveToCoordinate(std::span<Body> bodies, std::span<const std::unique_ptr<Joint>> joints,
                       std::size_t joint, int coordinate, double value) {
   Joint& j = *joints[joint];
-  const JointTypeInfo* type = findJointType(j.type());
-  const int free = type ? type->freeCoordinates() : 0;
+  const int free = j.freeCoordinates();
   if (coordinate < 0 || coordinate >= free)
     throw std::invalid_argument(fmt::format("coordinates[{}]: a {} joint has {} free coordinates",
                                             coordinate, j.type(), free));

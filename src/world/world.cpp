@@ -252,8 +252,7 @@ std::span<const Contact> World::contacts() const {
 JointCoordinates World::jointCoordinates(JointId id) const {
   const Joint& j = joint(id);
   JointCoordinates q = j.coordinates(bodyState(j.body1()), bodyState(j.body2()));
-  const JointTypeInfo* type = findJointType(j.type());
-  const int free = type ? type->freeCoordinates() : 0;
+  const int free = j.freeCoordinates();
   for (int i = 0; i < free && i < q.size(); ++i)
     q[i] += j.def().coordinates[static_cast<std::size_t>(i)].reference;
   return q;
