@@ -1,7 +1,9 @@
 // linx-bench: the scenes of issue 4 in linx and, where they were found at configure time, in ODE,
-// Bullet, MuJoCo and DART, one after another in one process; prints one table and the targets, or
-// with --pareto the Pareto table of accuracy against time. See docs/performance.md.
+// Bullet, MuJoCo and DART, one after another in one process, then MuJoCo's sample models run as
+// they are in linx and MuJoCo (issue 16); prints one table, the model files' figures and the
+// targets, or with --pareto the Pareto table of accuracy against time. See docs/performance.md.
 #include "engine.hpp"
+#include "model_files.hpp"
 #include "report.hpp"
 #include "runner.hpp"
 #include "scenes.hpp"
@@ -12,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -58,6 +61,42 @@ std::vector<SceneEntry> paretoSceneList(bool quick) {
   return list;
 }
 
+/// The model-file cases wanted, each run by every engine wanted (model_files.hpp); a case whose
+/// file is missing becomes a line of `skipped`.
+void runModelCases(const std::vector<bench::ModelCase>& cases,
+                   const std::function<bool(const std::string&)>& wanted_engine, bool quick,
+                   int max_bodies, double budget, std::vector<bench::Result>& results,
+                   std::vector<bench::ModelFigures>& figures, std::vector<std::string>& skipped) {
+  bench::ModelSchedule schedule;
+  if (quick) {
+    schedule.max_steps = 20;
+    schedule.runs = 1;
+  }
+  std::vector<bench::ModelVariant> variants = bench::linxModelVariants();
+  for (bench::ModelVariant& v : bench::mujocoModelVariants()) variants.push_back(std::move(v));
+  for (const bench::ModelCase& model : cases) {
+    if (max_bodies > 0 && model.bodies > max_bodies) continue;
+    if (!std::filesystem::exists(model.path)) {
+      skipped.push_back(fmt::format("{}: skipped: {} is missing (from the {})", model.key,
+                                    model.path.string(), model.source));
+      continue;
+    }
+    for (const bench::ModelVariant& v : variants) {
+      if (!wanted_engine(v.engine)) continue;
+      std::fprintf(stderr, "%s %s: %s ...", model.key.c_str(),
+                   model.path.filename().string().c_str(), v.engine.c_str());
+      std::fflush(stderr);
+      const auto t0 = std::chrono::steady_clock::now();
+      bench::ModelRun run = bench::runModel(model, v, schedule, budget);
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::fprintf(stderr, " %.1f s%s%s\n", s, run.result.note.empty() ? "" : ": ",
+                   run.result.note.c_str());
+      results.push_back(std::move(run.result));
+      figures.push_back(std::move(run.figures));
+    }
+  }
+}
+
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
@@ -74,18 +113,20 @@ int main(int argc, char** argv) {
   double budget = 120.0;
   std::string markdown;
   bool pareto = false;
+  std::vector<std::string> model_files;
   app.add_option("--scene", scene_names,
                  "Scenes to run (default all): chain, heavy-chain, pyramid, spheres, slider-crank, "
-                 "ragdolls")
-      ->check(CLI::IsMember(
-          {"chain", "heavy-chain", "pyramid", "spheres", "slider-crank", "ragdolls"}));
+                 "ragdolls, and the model files humanoid, 22_humanoids (MuJoCo's samples, from "
+                 "libmujoco-samples) and four_bar (examples/robots), each run as it is")
+      ->check(CLI::IsMember({"chain", "heavy-chain", "pyramid", "spheres", "slider-crank",
+                             "ragdolls", "humanoid", "22_humanoids", "four_bar"}));
   app.add_option("--engine", engine_names,
                  "Engines to run (default every one built): linx, ode, bullet, mujoco, dart")
       ->check(CLI::IsMember({"linx", "ode", "bullet", "mujoco", "dart"}));
   app.add_flag("--quick", quick,
-               "Smallest size of each scene and 20 steps (with --pareto: the 55-box pyramid and "
-               "the sphere pile, the least and the most substeps and iterations): a smoke test, "
-               "not a measurement");
+               "Smallest size of each scene and 20 steps, one run of each model file (with "
+               "--pareto: the 55-box pyramid and the sphere pile, the least and the most "
+               "substeps and iterations): a smoke test, not a measurement");
   app.add_option("--max-bodies", max_bodies, "Skip scene sizes with more bodies than this")
       ->check(CLI::PositiveNumber);
   app.add_option("--budget", budget,
@@ -93,6 +134,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--markdown", markdown,
                  "Also write the machine, command, table and targets to this Markdown file");
+  app.add_option("--model", model_files,
+                 "Also run this MJCF file as it is, in linx and MuJoCo, like the model files "
+                 "among the scenes (with no --scene, only the files given)")
+      ->check(CLI::ExistingFile);
   app.add_flag("--pareto", pareto,
                "Instead of the table and targets, the Pareto table: accuracy against time on the "
                "pyramids of 55 and 210 boxes and the 1,000-sphere pile, for linx's default step "
@@ -110,9 +155,10 @@ int main(int argc, char** argv) {
   const std::vector<int> substeps = quick ? std::vector<int>{1, 8} : std::vector<int>{1, 2, 4, 8};
   const std::vector<int> iterations =
       quick ? std::vector<int>{10, 100} : std::vector<int>{10, 20, 50, 100};
+  const bool files_only = !model_files.empty() && scene_names.empty();  // --model alone
   std::vector<bench::Result> results;
   for (const SceneEntry& entry : pareto ? paretoSceneList(quick) : sceneList(quick)) {
-    if (!wanted(scene_names, entry.key)) continue;
+    if (files_only || !wanted(scene_names, entry.key)) continue;
     if (max_bodies > 0 && entry.bodies > max_bodies) continue;
     bench::Scene scene = entry.make();
     if (quick) scene.steps = std::min(scene.steps, 20);
@@ -143,6 +189,18 @@ int main(int argc, char** argv) {
     }
   }
 
+  std::vector<bench::ModelFigures> figures;
+  std::vector<std::string> skipped;
+  if (!pareto) {
+    std::vector<bench::ModelCase> cases;
+    for (const bench::ModelCase& c : bench::modelCases())
+      if (!files_only && wanted(scene_names, c.key)) cases.push_back(c);
+    for (const std::string& file : model_files) cases.push_back(bench::modelCase(file));
+    runModelCases(
+        cases, [&](const std::string& engine) { return wanted(engine_names, lower(engine)); },
+        quick, max_bodies, budget, results, figures, skipped);
+  }
+
   const std::vector<std::string> machine = bench::machineDescription();
   for (const std::string& line : machine) fmt::print("{}\n", line);
   std::string report = "Machine:\n\n";
@@ -153,10 +211,12 @@ int main(int argc, char** argv) {
     report += bench::paretoTable(results, true);
   } else {
     const std::vector<bench::Target> targets = bench::targets(results);
-    fmt::print("Command: {}\n\n{}\nTargets:\n{}", command, bench::table(results, false),
-               bench::targetLines(targets, false));
-    report +=
-        "\n" + bench::table(results, true) + "\nTargets:\n\n" + bench::targetLines(targets, true);
+    const std::string models = bench::modelLines(figures, skipped, false);
+    fmt::print("Command: {}\n\n{}\n{}{}Targets:\n{}", command, bench::table(results, false), models,
+               models.empty() ? "" : "\n", bench::targetLines(targets, false));
+    const std::string models_md = bench::modelLines(figures, skipped, true);
+    report += "\n" + bench::table(results, true) + (models_md.empty() ? "" : "\n" + models_md) +
+              "\nTargets:\n\n" + bench::targetLines(targets, true);
   }
   bool failed = false;
   for (const bench::Result& r : results) failed = failed || (r.reference && !r.ran);

@@ -18,6 +18,7 @@ namespace {
 constexpr double kAccuracyFloor = 1e-9;
 
 std::string accuracyText(const Result& r) {
+  if (!r.has_accuracy) return "";
   if (!r.ran) return "-";
   if (std::isnan(r.accuracy)) return "NaN";
   return fmt::format("{:.2e} m", r.accuracy);
@@ -196,7 +197,8 @@ std::vector<Target> targets(const std::vector<Result>& results) {
   // Every linx row is judged, each with its settings.
   std::map<std::string, const Result*> linx_by_key;
   for (const Result& r : results) {
-    if (r.is_linx && r.ran) linx_by_key[r.scene + " " + r.size + ", linx " + r.settings] = &r;
+    if (r.is_linx && r.ran && r.has_accuracy)
+      linx_by_key[r.scene + " " + r.size + ", linx " + r.settings] = &r;
   }
   for (const auto& [key, lx] : linx_by_key) {
     if (lx->steps < lx->steps_planned) {
@@ -207,7 +209,8 @@ std::vector<Target> targets(const std::vector<Result>& results) {
     const Result* accurate = nullptr;  // most accurate peer
     int peers = 0;
     for (const Result& r : results) {
-      if (r.is_linx || !r.ran || r.scene != lx->scene || r.size != lx->size) continue;
+      if (r.is_linx || !r.ran || !r.has_accuracy || r.scene != lx->scene || r.size != lx->size)
+        continue;
       if (r.steps < r.steps_planned) continue;  // a partial run is no comparison
       ++peers;
       if (asAccurate(r.accuracy, lx->accuracy) && (!fastest || r.median_ms < fastest->median_ms)) {

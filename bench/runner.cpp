@@ -17,11 +17,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double heapInUse() {
-  const struct mallinfo2 m = mallinfo2();
-  return static_cast<double>(m.uordblks + m.hblkhd);
-}
-
 double seconds(Clock::duration d) {
   return std::chrono::duration<double>(d).count();
 }
@@ -46,6 +41,11 @@ std::uint64_t fingerprint(const Engine& engine, int bodies) {
 }
 
 }  // namespace
+
+double heapInUse() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<double>(m.uordblks + m.hblkhd);
+}
 
 Result run(const Scene& scene, const Variant& variant, double budget_s) {
   Result r;

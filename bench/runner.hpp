@@ -25,6 +25,8 @@ struct Result {
   double mean_ms = 0.0;    ///< all the steps' wall time over their number (ms)
   double build_s = 0.0;    ///< wall time to build the scene (s)
   double accuracy = 0.0;   ///< the scene's metric, worst over the run
+  /// false: the row has no accuracy figure (a model file's: model_files.hpp)
+  bool has_accuracy = true;
   /// Scene::energy: the energy figures (Energy::rise() and end(), percent of the energy
   /// exchanged), sampled with the accuracy; NaN when the engine blew up or gives no velocities.
   bool has_energy = false;
@@ -40,6 +42,9 @@ struct Result {
   /// linx rows: a hash of every body's pose after each step, to compare thread counts.
   std::vector<std::uint64_t> fingerprints;
 };
+
+/// The heap in use (bytes): what malloc handed out and has not had back.
+double heapInUse();
 
 /// Runs `variant` on `scene` for scene.steps steps, or until `budget_s` seconds of stepping have
 /// passed (then Result::note says so).

@@ -212,9 +212,11 @@ TEST_F(MjcfImport, WhatLinxDoesNotUseIsNamedInOneWarning) {
   const Scene scene = importMjcf(write("extras.xml", text));
   ASSERT_EQ(scene.warnings.size(), 1u);
   const std::string& w = scene.warnings[0];
-  for (const char* named : {"<actuator>", "<sensor>", "<light>", "<site>", "joint armature",
-                            "<compiler coordinate>", "<asset><texture>"})
+  for (const char* named : {"<actuator>", "<sensor>", "<light>", "<site>", "<compiler coordinate>",
+                            "<asset><texture>"})
     EXPECT_NE(w.find(named), std::string::npos) << named << " not in: " << w;
+  EXPECT_EQ(w.find("armature"), std::string::npos) << w;  // read: the coordinate's armature
+  EXPECT_EQ(scene.joints[0].def.coordinates[0].armature, 0.1);
 }
 
 TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
@@ -232,9 +234,10 @@ TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
   refused("<mujoco><worldbody>", "not well-formed XML");
   refused("<robot/>", "needs a <mujoco> element");
   refused(
-      "<mujoco><worldbody>\n<body name='b'><joint/><joint/><geom size='1'/></body>"
+      "<mujoco><worldbody>\n<body name='b'><joint/><joint type='ball'/><geom size='1'/></body>"
       "</worldbody></mujoco>",
-      "body 'b' (line 2): has 2 joints: several joints in one body are not supported yet");
+      "joint (line 2): type: a ball joint with other joints in one body (linx takes hinges and "
+      "slides there)");
   refused(
       "<mujoco><worldbody><body><freejoint/><geom type='ellipsoid' size='1 2 3'/></body>"
       "</worldbody></mujoco>",

@@ -170,6 +170,29 @@ TEST(SerialJoint, ArmatureAddsItsInertiaToThePendulumsPeriod) {
   }
 }
 
+TEST(SerialJoint, ArmatureAddsItsMassToASlidersPeriod) {
+  // A block on a spring along an oblique slide, without gravity: period 2 pi sqrt((m + A) / k).
+  const double m = 2.0, k = 300.0, armature = 0.5;
+  const Vec3 axis = Vec3(1, 0.5, -0.2).normalized();
+  for (const std::string_view type : {"serial", "slider"}) {
+    WorldSettings s = test::solverSettings(SolverType::Auto);
+    s.gravity.setZero();
+    World w(s);
+    BodyDef block = test::boxBody("block", m, Vec3(0.2, 0.1, 0.1), Vec3(0.1, 0.2, 0.3));
+    block.linear_velocity = 0.4 * axis;
+    const BodyId id = w.createBody(block);
+    JointDef def{.name = "j", .body1 = id, .axis = axis};
+    def.coordinates[0] = CoordinateDef{.spring = JointSpring{.stiffness = k}, .armature = armature};
+    if (type == "serial") def.axes = {slide(axis)};
+    const JointId j = w.createJoint(type, def);
+    const double period = 2.0 * kPi * std::sqrt((m + armature) / k);
+    const test::Oscillation o = test::jointOscillation(w, j, 3000);
+    std::printf("%s: period %.6f s, closed form %.6f s (%.2e relative)\n",
+                std::string(type).c_str(), o.period, period, o.period / period - 1.0);
+    EXPECT_NEAR(o.period / period, 1.0, 1e-3) << type;
+  }
+}
+
 TEST(SerialJoint, LimitsStopEachCoordinate) {
   // A body on a vertical slide then a hinge, released: it falls onto the slide's lower limit and
   // swings down onto the hinge's upper one, each held there.

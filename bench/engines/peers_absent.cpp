@@ -1,6 +1,7 @@
 // Stand-ins for the peers whose Debian packages were not found at configure time: each returns no
 // variants, so the table lists linx alone for that engine. Compiled only for missing peers.
 #include "../engine.hpp"
+#include "../model_engine.hpp"
 
 namespace bench {
 
@@ -25,6 +26,9 @@ std::vector<Variant> mujocoVariants(const Scene&) {
   return {};
 }
 std::vector<Variant> mujocoSweep(const Scene&, const std::vector<int>&) {
+  return {};
+}
+std::vector<ModelVariant> mujocoModelVariants() {
   return {};
 }
 #endif

@@ -181,6 +181,10 @@ struct JointContext {
   /// (s) the time at the step's start: a position target is taken there (with the coordinate), a
   /// velocity target at its end (time + h), where the rate is.
   double time = 0.0;
+  /// The bodies' velocities at the (sub)step's start, before gravity and applied forces moved
+  /// them: armature keeps the rotor's rate from there (its poses are b1's and b2's). Assembly
+  /// sets them; none: the same as b1's and b2's.
+  std::optional<std::pair<BodyState, BodyState>> start = std::nullopt;
 };
 
 /// A joint's coordinate values (at most kMaxCoordinates, no allocation).

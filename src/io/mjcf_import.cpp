@@ -354,9 +354,9 @@ class MjcfImporter {
       }
     }
     if (free && !joints.empty()) fail(where(e), "a free joint and other joints in one body");
-    if (joints.size() > 1)
-      fail(where(e), fmt::format("has {} joints: several joints in one body are not supported yet",
-                                 joints.size()));
+    if (joints.size() > static_cast<std::size_t>(kMaxCoordinates))
+      fail(where(e),
+           fmt::format("has {} joints: at most {} in one body", joints.size(), kMaxCoordinates));
     const bool moves = free || !joints.empty() || parent_moves;
 
     BodyDef def;
@@ -398,8 +398,10 @@ class MjcfImporter {
     body_index_[name] = index;
     body_frame_[name] = frame;
 
-    if (!joints.empty())
+    if (joints.size() == 1)
       joint(joints[0], classOf(joints[0], cls), frame, index, parent);
+    else if (joints.size() > 1)
+      serialJoint(joints, cls, frame, index, parent);
     else if (!free && parent_moves)
       weld(name, frame.position, index, parent);
 
@@ -417,31 +419,33 @@ class MjcfImporter {
     scene_.joints.push_back(std::move(j));
   }
 
+  // A <joint>'s name, or its body's (and its place there, when the body has several).
+  std::string jointName(const XMLElement* e, int body,
+                        std::optional<std::size_t> place = {}) const {
+    if (e->Attribute("name")) return e->Attribute("name");
+    const std::string& name = scene_.bodies[static_cast<std::size_t>(body)].name;
+    return place ? fmt::format("{}_joint{}", name, *place) : name + "_joint";
+  }
+
+  // A <joint>'s anchor (pos) and unit axis in the world.
+  std::pair<Vec3, Vec3> jointAxis(const XMLElement* e, const std::string& cls,
+                                  const Pose& frame) const {
+    const auto pos = vector(e, "joint", cls, "pos", 3);
+    const Vec3 anchor = frame.toWorld(pos ? Vec3((*pos)[0], (*pos)[1], (*pos)[2]) : Vec3::Zero());
+    const auto axis = vector(e, "joint", cls, "axis", 3);
+    const Vec3 a = axis ? Vec3((*axis)[0], (*axis)[1], (*axis)[2]) : Vec3::UnitZ();
+    if (!(a.norm() > 0)) fail(where(e), "axis: must not be zero");
+    return {anchor, frame.orientation * a.normalized()};
+  }
+
   void joint(const XMLElement* e, const std::string& cls, const Pose& frame, int body1, int body2) {
     const std::string type = attribute(e, "joint", cls, "type").value_or("hinge");
     SceneJoint j;
     JointDef& def = j.def;
-    def.name = e->Attribute("name")
-                   ? e->Attribute("name")
-                   : scene_.bodies[static_cast<std::size_t>(body1)].name + "_joint";
+    def.name = jointName(e, body1);
     def.body1 = BodyId{body1};
     def.body2 = BodyId{body2};
-    const auto pos = vector(e, "joint", cls, "pos", 3);
-    def.anchor = frame.toWorld(pos ? Vec3((*pos)[0], (*pos)[1], (*pos)[2]) : Vec3::Zero());
-    const auto axis = vector(e, "joint", cls, "axis", 3);
-    const Vec3 a = axis ? Vec3((*axis)[0], (*axis)[1], (*axis)[2]) : Vec3::UnitZ();
-    if (!(a.norm() > 0)) fail(where(e), "axis: must not be zero");
-    def.axis = frame.orientation * a.normalized();
-    const bool angular = type == "hinge" || type == "ball";
-    const auto scale = [&](double v) { return angular ? angle(v) : v; };
-    CoordinateDef& c = def.coordinates[0];
-
-    const auto range = vector(e, "joint", cls, "range", 2);
-    const std::string limited = attribute(e, "joint", cls, "limited").value_or("auto");
-    if (limited != "true" && limited != "false" && limited != "auto")
-      fail(where(e), "limited: must be true, false or auto");
-    const bool has_limits = limited == "true" || (limited == "auto" && range);
-    if (limited == "true" && !range) fail(where(e), "limited needs a range");
+    std::tie(def.anchor, def.axis) = jointAxis(e, cls, frame);
     if (type == "hinge")
       j.type = "hinge";
     else if (type == "slide")
@@ -450,6 +454,51 @@ class MjcfImporter {
       j.type = "ball";
     else
       fail(where(e), fmt::format("type: '{}' is not a joint type linx reads", type));
+    def.coordinates[0] = coordinate(e, cls, type);
+    joint_coordinate_[def.name] = {scene_.joints.size(), 0};
+    scene_.joints.push_back(std::move(j));
+  }
+
+  // Several <joint>s in one body: one serial joint of their hinges and slides, in their order,
+  // named after them ("a+b").
+  void serialJoint(const std::vector<XMLElement*>& joints, const std::string& body_class,
+                   const Pose& frame, int body1, int body2) {
+    SceneJoint j;
+    j.type = "serial";
+    JointDef& def = j.def;
+    def.body1 = BodyId{body1};
+    def.body2 = BodyId{body2};
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+      const XMLElement* e = joints[i];
+      const std::string cls = classOf(e, body_class);
+      const std::string type = attribute(e, "joint", cls, "type").value_or("hinge");
+      if (type != "hinge" && type != "slide")
+        fail(where(e), fmt::format("type: a {} joint with other joints in one body (linx takes "
+                                   "hinges and slides there)",
+                                   type));
+      const auto [anchor, axis] = jointAxis(e, cls, frame);
+      def.axes.push_back(SerialAxis{type == "slide", axis, anchor});
+      def.coordinates[i] = coordinate(e, cls, type);
+      const std::string name = jointName(e, body1, i);
+      def.name += (i == 0 ? "" : "+") + name;
+      joint_coordinate_[name] = {scene_.joints.size(), static_cast<int>(i)};
+    }
+    def.anchor = def.axes[0].anchor;
+    scene_.joints.push_back(std::move(j));
+  }
+
+  // What acts on a <joint>'s coordinate: range, ref, stiffness and damping (a spring about
+  // springref), frictionloss, armature.
+  CoordinateDef coordinate(const XMLElement* e, const std::string& cls, const std::string& type) {
+    CoordinateDef c;
+    const bool angular = type == "hinge" || type == "ball";
+    const auto scale = [&](double v) { return angular ? angle(v) : v; };
+    const auto range = vector(e, "joint", cls, "range", 2);
+    const std::string limited = attribute(e, "joint", cls, "limited").value_or("auto");
+    if (limited != "true" && limited != "false" && limited != "auto")
+      fail(where(e), "limited: must be true, false or auto");
+    const bool has_limits = limited == "true" || (limited == "auto" && range);
+    if (limited == "true" && !range) fail(where(e), "limited needs a range");
 
     if (has_limits && type != "ball") {
       if (!((*range)[0] <= (*range)[1])) fail(where(e), "range: the lower end is above the upper");
@@ -468,9 +517,14 @@ class MjcfImporter {
     const double friction = number(e, "joint", cls, "frictionloss", 0.0);
     if (friction < 0) fail(where(e), "frictionloss must be >= 0");
     if (type != "ball") c.friction = friction;
-    if (number(e, "joint", cls, "armature", 0.0) > 0) unused("joint armature");
-    if (type == "ball") c = CoordinateDef{};
-    scene_.joints.push_back(std::move(j));
+    const double armature = number(e, "joint", cls, "armature", 0.0);
+    if (armature < 0) fail(where(e), "armature must be >= 0");
+    if (type != "ball") c.armature = armature;
+    if (type == "ball") {
+      if (armature > 0) unused("ball joint armature");
+      c = CoordinateDef{};
+    }
+    return c;
   }
 
   // fromto's segment: its middle and direction as a frame (z along it), and its length.
@@ -597,6 +651,8 @@ class MjcfImporter {
   std::map<std::string, std::map<std::string, Attributes>> defaults_;
   std::map<std::string, int> body_index_;
   std::map<std::string, Pose> body_frame_;
+  // Each named <joint>: its scene joint and coordinate there (actuators find it by name).
+  std::map<std::string, std::pair<std::size_t, int>> joint_coordinate_;
   std::map<std::string, int> unused_;
   int world_geoms_ = -1;
 };

@@ -248,7 +248,8 @@ void driveRow(const JointContext& ctx, double stiffness, double damping, double 
 }
 
 void armatureRow(const JointContext& ctx, double armature, Row& row) {
-  const double rate = rowRate(row, ctx.b1, ctx.b2);
+  const double rate =
+      ctx.start ? rowRate(row, ctx.start->first, ctx.start->second) : rowRate(row, ctx.b1, ctx.b2);
   row.phi = 0.0;
   driveRow(ctx, 0.0, armature / ctx.h, rate, kInfinity, row);
 }

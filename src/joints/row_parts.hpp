@@ -153,8 +153,9 @@ void driveRow(const JointContext& ctx, double stiffness, double damping, double 
               double max_force, Row& row);
 
 /// Turns a coordinate row into the armature A of a coordinate (CoordinateDef::armature): a damper
-/// of A / h towards the rate at the step's start, so that its impulse A (x'0 - x'+) is the rotor's
-/// change of momentum: implicit, the coordinate moves as if A were added to its inertia.
+/// of A / h towards the rate at the step's start (JointContext::start: before gravity and applied
+/// forces, which do not act on the rotor), so that its impulse A (x'0 - x'+) is the rotor's change
+/// of momentum: implicit, the coordinate moves as if A were added to its inertia.
 void armatureRow(const JointContext& ctx, double armature, Row& row);
 
 /// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction, 5 lock,

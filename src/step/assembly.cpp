@@ -21,12 +21,29 @@ BodyInertia inertiaOf(std::span<const Body> bodies, BodyId id) {
 }
 }  // namespace
 
+void keepStartVelocities(std::span<const Body> bodies, std::vector<StartVelocity>& start) {
+  start.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    start[i] = StartVelocity{bodies[i].linearVelocity(), bodies[i].angularVelocity()};
+}
+
 JointContext contextOf(std::span<const Body> bodies, const Joint& j, const SolverSettings& settings,
-                       double h, double time) {
+                       double h, double time, std::span<const StartVelocity> start) {
   const JointDef& def = j.def();
   JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
                    def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
   ctx.time = time;
+  if (!start.empty()) {
+    const auto at = [&](BodyId id, const BodyState& now) {
+      BodyState s = now;
+      if (!id.isWorld()) {
+        s.v = start[static_cast<std::size_t>(id.index)].v;
+        s.w = start[static_cast<std::size_t>(id.index)].w;
+      }
+      return s;
+    };
+    ctx.start = std::pair{at(j.body1(), ctx.b1), at(j.body2(), ctx.b2)};
+  }
   // Only drives (servos, springs) and friction read the inertia: the others skip rotating it to the
   // world.
   const auto drives = [](const CoordinateDef& c) {
@@ -51,7 +68,8 @@ bool finite(const Row& r) {
 }  // namespace
 
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
-                  const SolverSettings& settings, double h, double time, std::vector<Row>& rows) {
+                  const SolverSettings& settings, double h, double time, std::vector<Row>& rows,
+                  std::span<const StartVelocity> start) {
   // 1. count
   std::size_t capacity = 0;
   for (const auto& j : joints)
@@ -63,7 +81,7 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
     if (!j.enabled()) continue;  // broken or switched off: no rows
-    const JointContext ctx = contextOf(bodies, j, settings, h, time);
+    const JointContext ctx = contextOf(bodies, j, settings, h, time, start);
     const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
     for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
     const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());

@@ -15,10 +15,20 @@ namespace linx::step {
 
 /// A joint's state of a body: identity and zero velocity for the world frame.
 BodyState stateOf(std::span<const Body> bodies, BodyId id);
+
+/// A body's velocities at a (sub)step's start, before gravity and applied forces
+/// (JointContext::start).
+struct StartVelocity {
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
+};
+/// Each body's velocities now (the step keeps them before it integrates the forces).
+void keepStartVelocities(std::span<const Body> bodies, std::vector<StartVelocity>& start);
 /// What joint `j` fills its rows from for a step of length h starting at `time`: its bodies' states
 /// and inertia, its error reduction and cfm (its own, else the world's), the time of its targets.
+/// With `start` (one per body), the context's start velocities are those.
 JointContext contextOf(std::span<const Body> bodies, const Joint& j, const SolverSettings& settings,
-                       double h, double time);
+                       double h, double time, std::span<const StartVelocity> start = {});
 
 /// Assembles the rows of all joints for a step of length h starting at `time` (motors' targets).
 /// Solver body indices are body indices, -1 for the world and for static bodies; joints between two
@@ -26,6 +36,7 @@ JointContext contextOf(std::span<const Body> bodies, const Joint& j, const Solve
 /// `normal` becomes a list index. Throws std::logic_error when a joint writes more rows than its
 /// maxRows(). Throws std::domain_error naming the joint if it produces a non-finite row.
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
-                  const SolverSettings& settings, double h, double time, std::vector<Row>& rows);
+                  const SolverSettings& settings, double h, double time, std::vector<Row>& rows,
+                  std::span<const StartVelocity> start = {});
 
 }  // namespace linx::step

@@ -61,7 +61,8 @@ void prepareRows(const Scene& scene, State& state, double h_joints, double h, bo
                  bool curvature) {
   const SolverSettings& solver = scene.settings.solver;
   Rows& r = state.rows;
-  assembleRows(scene.joints, scene.bodies, solver, h_joints, scene.time, r.rows);
+  assembleRows(scene.joints, scene.bodies, solver, h_joints, scene.time, r.rows,
+               state.start_velocities);
   r.joint_rows = r.rows.size();
   r.lambda.assign(r.joint_rows, 0.0);
   if (solver.warm_start) state.joint_warm.load(r.rows, r.lambda);
@@ -212,6 +213,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     });
   };
   for (int s = 0; s < n; ++s) {
+    keepStartVelocities(scene.bodies, state.start_velocities);
     eachBody(scene, [&](std::size_t i) {
       if (!moving(i)) return;
       dynamics::integrateVelocity(scene.bodies[i], scene.settings.gravity, h);
@@ -220,7 +222,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     });
     const double start = scene.time + s * h;  // of this substep: the targets' time
     joints.prepare(scene.joints, scene.bodies, settings, h, start, state.moving, state.joint_warm,
-                   state.stabilization, true);
+                   state.stabilization, true, state.start_velocities);
     solver.warmStart();
     joints.warmStart(bodies);
     solver.sweep(true);
@@ -234,7 +236,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
     solver.sweep(false);
     joints.store(state.joint_warm);
     joints.prepare(scene.joints, scene.bodies, settings, h, start, state.moving, state.joint_warm,
-                   state.stabilization, false);
+                   state.stabilization, false, state.start_velocities);
     if (!joints.empty()) joint_report = joints.solve(bodies, false, settings, h, scene.threads);
     solver.accumulate();
     joints.store(state.joint_warm);
@@ -348,6 +350,7 @@ void sleep(const Scene& scene, State& state, double h) {
 SolverReport pass(const Scene& scene, State& state, double h) {
   if (scene.settings.solver.type == SolverType::Soft) return softStep(scene, state, h);
   wakeDisturbed(scene, state);
+  keepStartVelocities(scene.bodies, state.start_velocities);
   integrateVelocities(scene, state, h);
   collide(scene, state, h, scene.settings.contact);
   prepareRows(scene, state, h, h, true, true);
@@ -368,6 +371,7 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   ContactSettings contacts = scene.settings.contact;
   contacts.slop = 0.0;
   collide(scene, state, dt, contacts);
+  keepStartVelocities(scene.bodies, state.start_velocities);
   prepareRows(scene, state, dt / n, dt, false, false);
   const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, 0.0);
   if (scene.settings.solver.post_stabilization > 0) state.stabilization.beginStep(scene.bodies);

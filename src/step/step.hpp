@@ -34,6 +34,7 @@
 
 #include "solver/problem.hpp"
 #include "solver/soft_solver.hpp"
+#include "step/assembly.hpp"
 #include "step/contact_stage.hpp"
 #include "step/geometric_stiffness.hpp"
 #include "step/island_solver.hpp"
@@ -83,7 +84,8 @@ struct State {
   std::vector<std::pair<int, int>> links;
   std::vector<std::uint8_t> movable, may_sleep, row_active;
   std::vector<int> row_manifold;
-  std::vector<std::uint8_t> moving;  // soft step: movable and awake
+  std::vector<std::uint8_t> moving;             // soft step: movable and awake
+  std::vector<StartVelocity> start_velocities;  // before the (sub)step's forces (armature)
   SubstepJoints substep_joints;
   PostStabilization stabilization;
   GeometricStiffness geometric_stiffness;

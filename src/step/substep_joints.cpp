@@ -10,8 +10,9 @@ namespace linx::step {
 void SubstepJoints::prepare(std::span<const std::unique_ptr<Joint>> joints,
                             std::span<const Body> bodies, const SolverSettings& settings, double h,
                             double time, std::span<const std::uint8_t> moving, JointWarmStart& warm,
-                            PostStabilization& post, bool start) {
-  assembleRows(joints, bodies, settings, h, time, all_);
+                            PostStabilization& post, bool start,
+                            std::span<const StartVelocity> start_velocities) {
+  assembleRows(joints, bodies, settings, h, time, all_, start_velocities);
   rows_.clear();
   const auto moves = [&](int body) {
     return body >= 0 && moving[static_cast<std::size_t>(body)] != 0;

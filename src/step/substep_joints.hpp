@@ -15,6 +15,7 @@
 
 #include "solver/exact_solver.hpp"
 #include "solver/soft_solver.hpp"
+#include "step/assembly.hpp"
 #include "step/joint_warm_start.hpp"
 #include "step/stabilization.hpp"
 
@@ -35,7 +36,7 @@ class SubstepJoints {
   void prepare(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                const SolverSettings& settings, double h, double time,
                std::span<const std::uint8_t> moving, JointWarmStart& warm, PostStabilization& post,
-               bool start);
+               bool start, std::span<const StartVelocity> start_velocities);
   bool empty() const { return rows_.empty(); }
   /// Applies the impulses to the velocities.
   void warmStart(std::span<solver::SoftSolver::Body> bodies) const;

@@ -1,0 +1,176 @@
+// MJCF import against MuJoCo itself, the reference solution: the same file loaded by both.
+// - A chain with several joints in one body (hinges at offset points, a slide), armature,
+//   joint springs about springref, damping and ref, swung by gravity: both engines' bodies follow
+//   the same path (each converges at its own first order in h; at h = 0.1 ms they agree to the
+//   step's error). Armature on hinges only: on a slide carried round by its parent, linx's
+//   armature feels the centripetal acceleration (docs/joints.md, "Armature").
+// - MuJoCo's humanoid sample (libmujoco-samples): every body's mass, centre of mass and inertia as
+//   MuJoCo computes them from the geoms; it falls and lies down with its joints held.
+#include "support.hpp"
+
+#include <linx/import.hpp>
+
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace linx {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct MujocoModel {
+  mjModel* model = nullptr;
+  mjData* data = nullptr;
+  explicit MujocoModel(const fs::path& path) {
+    char error[1000] = "";
+    model = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
+    if (!model) throw std::runtime_error(error);
+    data = mj_makeData(model);
+    mj_forward(model, data);
+  }
+  ~MujocoModel() {
+    mj_deleteData(data);
+    mj_deleteModel(model);
+  }
+  MujocoModel(const MujocoModel&) = delete;
+  MujocoModel& operator=(const MujocoModel&) = delete;
+
+  int body(const std::string& name) const { return mj_name2id(model, mjOBJ_BODY, name.c_str()); }
+  Vec3 centre(int b) const {
+    return Vec3(data->xipos[3 * b], data->xipos[3 * b + 1], data->xipos[3 * b + 2]);
+  }
+  // The inertia about the centre of mass, world axes.
+  Mat3 inertia(int b) const {
+    Mat3 r;
+    for (int i = 0; i < 9; ++i) r(i / 3, i % 3) = data->ximat[9 * b + i];
+    const Vec3 principal(model->body_inertia[3 * b], model->body_inertia[3 * b + 1],
+                         model->body_inertia[3 * b + 2]);
+    return r * principal.asDiagonal() * r.transpose();
+  }
+};
+
+const char* kChain = R"(<mujoco model="serial chain">
+  <compiler angle="degree"/>
+  <option timestep="0.0001" gravity="0 0 -9.81"/>
+  <worldbody>
+    <body name="upper" pos="0 0 1" euler="10 20 0">
+      <joint name="h1" type="hinge" pos="0 0 0.05" axis="0 1 0" damping="0.05" armature="0.01"/>
+      <joint name="h2" type="hinge" pos="0.02 0 0" axis="1 0 0.5" stiffness="2" springref="10"
+             ref="5" armature="0.02"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 -0.3" size="0.04"/>
+      <body name="lower" pos="0.3 0 -0.3">
+        <joint name="s" type="slide" axis="1 0 -1" stiffness="50" damping="0.5"/>
+        <joint name="h3" type="hinge" axis="0 1 1" armature="0.005"/>
+        <geom type="box" size="0.05 0.1 0.02" pos="0 0.1 0"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>)";
+
+TEST(MjcfAgainstMujoco, SeveralJointsInOneBodyMoveAsInMujoco) {
+  test::TempFolder folder("linx_mjcf_mujoco_chain");
+  const fs::path path = folder.write("chain.xml", kChain);
+  MujocoModel mj(path);
+  const Scene scene = importMjcf(path);
+  World world = buildWorld(scene);
+  ASSERT_EQ(world.jointCount(), 2);  // a serial joint of 2 hinges in each body
+  const double h = scene.settings.timestep;
+  ASSERT_EQ(h, mj.model->opt.timestep);
+  double worst = 0.0, travel = 0.0;
+  const Vec3 start = world.body(*world.findBody("lower")).position();
+  for (int i = 0; i < 5000; ++i) {  // 0.5 s
+    world.step();
+    mj_step(mj.model, mj.data);
+    for (const std::string name : {"upper", "lower"}) {
+      const Vec3 x = world.body(*world.findBody(name)).position();
+      worst = std::max(worst, (x - mj.centre(mj.body(name))).norm());
+    }
+    travel = std::max(travel, (world.body(*world.findBody("lower")).position() - start).norm());
+  }
+  std::printf(
+      "0.5 s: bodies' centres differ from MuJoCo's by %.2e m at most (the lower body "
+      "travelled %.3f m), joint error %.2e\n",
+      worst, travel, world.maxJointError());
+  EXPECT_GT(travel, 0.1);
+  EXPECT_LT(worst, 1e-3 * travel);
+  EXPECT_LT(world.maxJointError(), 1e-9);
+}
+
+const fs::path kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";
+
+TEST(MjcfAgainstMujoco, HumanoidMassesAreMujocos) {
+  if (!fs::exists(kHumanoid))
+    GTEST_SKIP() << kHumanoid << " is missing (Debian's libmujoco-samples)";
+  MujocoModel mj(kHumanoid);
+  const Scene scene = importMjcf(kHumanoid);
+  World world = buildWorld(scene);
+  double mass = 0.0, worst_mass = 0.0, worst_centre = 0.0, worst_inertia = 0.0;
+  int bodies = 0;
+  for (const BodyDef& def : scene.bodies) {
+    if (def.is_static) continue;
+    const int b = mj.body(def.name);
+    ASSERT_GE(b, 0) << def.name;
+    const Body& body = world.body(*world.findBody(def.name));
+    mass += body.mass();
+    worst_mass = std::max(worst_mass, std::abs(body.mass() / mj.model->body_mass[b] - 1.0));
+    worst_centre = std::max(worst_centre, (body.position() - mj.centre(b)).norm());
+    worst_inertia = std::max(worst_inertia,
+                             (body.inertiaWorld() - mj.inertia(b)).norm() / mj.inertia(b).norm());
+    ++bodies;
+  }
+  double mj_mass = 0.0;
+  for (int b = 1; b < mj.model->nbody; ++b) mj_mass += mj.model->body_mass[b];
+  std::printf(
+      "%d bodies, %.6f kg (MuJoCo %.6f kg); largest differences: mass %.2e, centre "
+      "%.2e m, inertia %.2e (relative)\n",
+      bodies, mass, mj_mass, worst_mass, worst_centre, worst_inertia);
+  EXPECT_EQ(bodies, mj.model->nbody - 1);
+  EXPECT_LT(worst_mass, 1e-12);
+  EXPECT_LT(worst_centre, 1e-12);
+  EXPECT_LT(worst_inertia, 1e-12);
+}
+
+TEST(MjcfAgainstMujoco, HumanoidFallsAndLiesDownWithItsJointsHeld) {
+  if (!fs::exists(kHumanoid))
+    GTEST_SKIP() << kHumanoid << " is missing (Debian's libmujoco-samples)";
+  const Scene scene = importMjcf(kHumanoid);
+  World world = buildWorld(scene);
+  const BodyId torso = *world.findBody("torso");
+  // A joint's error is its equality rows' or a limit's overshoot: the limbs hit their limits as
+  // it lands (MuJoCo's limits here are soft, solimplimit="0 .99 .01"); what is not overshoot must
+  // be the equality rows', held to round-off.
+  double overshoot = 0.0, unexplained = 0.0;
+  for (int i = 0; i < 600; ++i) {  // 3 s at the file's 5 ms
+    world.step();
+    for (int j = 0; j < world.jointCount(); ++j) {
+      const JointId id{j};
+      const JointCoordinates q = world.jointCoordinates(id);
+      double over = 0.0;
+      for (int c = 0; c < world.joint(id).freeCoordinates(); ++c) {
+        const auto& limits = world.joint(id).def().coordinates[static_cast<std::size_t>(c)].limits;
+        if (limits) over = std::max({over, limits->lower - q[c], q[c] - limits->upper});
+      }
+      overshoot = std::max(overshoot, over);
+      unexplained = std::max(unexplained, world.jointError(id) - over);
+    }
+  }
+  const Body& t = world.body(torso);
+  std::printf(
+      "3 s: torso at height %.3f m, speed %.3f m/s; largest limit overshoot %.2e rad, "
+      "other joint error %.2e\n",
+      t.position().z(), t.linearVelocity().norm(), overshoot, unexplained);
+  // Lying on the floor: the torso's centre within a body's thickness or two of it.
+  EXPECT_LT(t.position().z(), 0.4);
+  EXPECT_GT(t.position().z(), 0.05);
+  EXPECT_LT(overshoot, 0.05);
+  EXPECT_LT(unexplained, 1e-9);
+}
+
+}  // namespace
+}  // namespace linx
