@@ -206,17 +206,55 @@ TEST_F(MjcfImport, WhatLinxDoesNotUseIsNamedInOneWarning) {
         <site name="s"/>
       </body>
     </worldbody>
-    <actuator><motor joint="j" gear="10"/><motor joint="j" gear="5"/></actuator>
+    <actuator><motor joint="j" gear="10"/><general joint="j"/></actuator>
     <sensor><jointpos joint="j"/></sensor>
   </mujoco>)";
   const Scene scene = importMjcf(write("extras.xml", text));
   ASSERT_EQ(scene.warnings.size(), 1u);
   const std::string& w = scene.warnings[0];
-  for (const char* named : {"<actuator>", "<sensor>", "<light>", "<site>", "<compiler coordinate>",
-                            "<asset><texture>"})
+  for (const char* named : {"<actuator><general>", "<sensor>", "<light>", "<site>",
+                            "<compiler coordinate>", "<asset><texture>"})
     EXPECT_NE(w.find(named), std::string::npos) << named << " not in: " << w;
   EXPECT_EQ(w.find("armature"), std::string::npos) << w;  // read: the coordinate's armature
   EXPECT_EQ(scene.joints[0].def.coordinates[0].armature, 0.1);
+  ASSERT_TRUE(scene.joints[0].def.coordinates[0].force);  // the motor, at zero control
+  EXPECT_EQ(scene.joints[0].def.coordinates[0].force->at(0.0), 0.0);
+}
+
+TEST_F(MjcfImport, PositionAndVelocityActuatorsAtZeroControlAreSpringsAndDampers) {
+  // A flywheel (I = 0.1 about its hinge) built at ref = 30 degrees with a position actuator kp = 2,
+  // gear 3: at zero control MuJoCo's force kp (0 - g q) on a length g q is a spring of stiffness
+  // kp g^2 towards 0: it swings with amplitude pi / 6 and period 2 pi sqrt(I / (kp g^2)). A
+  // velocity actuator kv = 0.5, gear 2 is a damper kv g^2, forcerange bounds it times the gear.
+  const char* text = R"(<mujoco>
+    <option gravity="0 0 0" timestep="0.001"/>
+    <worldbody>
+      <body name="wheel">
+        <joint name="turn" axis="0 0 1" ref="30" limited="false"/>
+        <inertial pos="0 0 0" mass="1" diaginertia="0.1 0.1 0.1"/>
+      </body>
+      <body name="other" pos="1 0 0">
+        <joint name="spin" axis="0 0 1"/>
+        <inertial pos="0 0 0" mass="1" diaginertia="0.1 0.1 0.1"/>
+      </body>
+    </worldbody>
+    <actuator>
+      <position joint="turn" kp="2" gear="3"/>
+      <velocity joint="spin" kv="0.5" gear="2" forcerange="-4 4"/>
+    </actuator>
+  </mujoco>)";
+  const Scene scene = importMjcf(write("actuators.xml", text));
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0];
+  const JointMotor& damper = *scene.joints[1].def.coordinates[0].motor;
+  EXPECT_EQ(damper.damping, 0.5 * 4);
+  EXPECT_EQ(damper.max_force, 8.0);
+  World world = buildWorld(scene);
+  const test::Oscillation o = test::jointOscillation(world, JointId{0}, 3000);
+  const double period = 2.0 * kPi * std::sqrt(0.1 / (2.0 * 9.0));
+  std::printf("position actuator: amplitude %.6f rad (pi / 6), period %.6f s (closed form %.6f)\n",
+              o.amplitude, o.period, period);
+  EXPECT_NEAR(o.amplitude, kPi / 6.0, 1e-3);
+  EXPECT_NEAR(o.period / period, 1.0, 1e-3);
 }
 
 TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {

@@ -1,6 +1,7 @@
 // MJCF import against MuJoCo itself, the reference solution: the same file loaded by both.
 // - A chain with several joints in one body (hinges at offset points, a slide), armature,
-//   joint springs about springref, damping and ref, swung by gravity: both engines' bodies follow
+//   joint springs about springref, damping and ref, position, velocity and motor actuators at zero
+//   control, swung by gravity: both engines' bodies follow
 //   the same path (each converges at its own first order in h; at h = 0.1 ms they agree to the
 //   step's error). Armature on hinges only: on a slide carried round by its parent, linx's
 //   armature feels the centripetal acceleration (docs/joints.md, "Armature").
@@ -71,6 +72,11 @@ const char* kChain = R"(<mujoco model="serial chain">
       </body>
     </body>
   </worldbody>
+  <actuator>
+    <position joint="h1" kp="3" gear="2"/>
+    <velocity joint="s" kv="2" gear="1.5"/>
+    <motor joint="h3" gear="2"/>
+  </actuator>
 </mujoco>)";
 
 TEST(MjcfAgainstMujoco, SeveralJointsInOneBodyMoveAsInMujoco) {

@@ -116,7 +116,7 @@ TEST(PrescribedMotionDefinition, RefusedWithTheFieldNamed) {
   };
   EXPECT_EQ(message(CoordinateDef{.limits = JointLimits{-1, 1}, .prescribed = Signal(0.5)}),
             "angle2.prescribed: a prescribed coordinate takes no limits, motor, spring, friction, "
-            "armature or lock");
+            "armature, force or lock");
   EXPECT_EQ(message(CoordinateDef{.prescribed = Signal({0.0, 0.0}, {1.0, 2.0})}),
             "angle2.prescribed: times[1]: must be after times[0] (0 <= 0)");
   EXPECT_EQ(message(CoordinateDef{.prescribed = Signal(0.25)}), "accepted");

@@ -193,6 +193,49 @@ TEST(SerialJoint, ArmatureAddsItsMassToASlidersPeriod) {
   }
 }
 
+TEST(SerialJoint, AnAppliedForceAcceleratesTheCoordinateAsNewtonSays) {
+  // A torque T along a hinge (offset from the body's centre, without gravity) turns it with
+  // theta = T t^2 / (2 I_pivot); a force table along a slide moves it by F t^2 / (2 (m + A)).
+  const Vec3 pivot(0, 0, 1), axis = Vec3(0.3, 1, 0.2).normalized(), com(0.2, 0, 1.1);
+  const double torque = 0.8, m = 1.5;
+  for (const std::string_view type : {"serial", "hinge"}) {
+    WorldSettings s = test::solverSettings(SolverType::Auto);
+    s.gravity.setZero();
+    World w(s);
+    const BodyId id = w.createBody(test::boxBody("rod", m, Vec3(0.05, 0.6, 0.05), com));
+    JointDef def{.name = "pivot", .body1 = id, .anchor = pivot, .axis = axis};
+    def.coordinates[0].force = Signal(torque);
+    if (type == "serial") def.axes = {hinge(axis, pivot)};
+    const JointId j = w.createJoint(type, def);
+    const Vec3 r = com - pivot;
+    const double d = (r - r.dot(axis) * axis).norm();
+    const double moment = axis.dot(w.body(id).inertiaWorld() * axis) + m * d * d;
+    for (int i = 0; i < 1000; ++i) w.step();
+    const double t = w.time(), expected = torque * t * t / (2.0 * moment);
+    const double angle = w.jointCoordinates(j)[0];
+    std::printf("%s: %.6f rad after %.1f s, closed form %.6f (%.2e relative)\n",
+                std::string(type).c_str(), angle, t, expected, angle / expected - 1.0);
+    // Symplectic Euler: theta_n = T h^2 n (n + 1) / (2 I), h / t above the closed form.
+    EXPECT_NEAR(angle / expected, 1.0, 2e-3) << type;
+  }
+  WorldSettings s = test::solverSettings(SolverType::Auto);
+  s.gravity.setZero();
+  World w(s);
+  const BodyId id = w.createBody(test::boxBody("block", m, Vec3(0.1, 0.1, 0.1), Vec3::Zero()));
+  JointDef def{.name = "slide", .body1 = id, .axes = {slide(Vec3(1, 1, 0))}};
+  def.coordinates[0].force = Signal({0.0, 1.0}, {2.0, 2.0});  // 2 N for the first second
+  def.coordinates[0].armature = 0.5;
+  const JointId j = w.createJoint("serial", def);
+  for (int i = 0; i < 1000; ++i) w.step();
+  // Symplectic Euler's own closed form: x_n = F h^2 n (n + 1) / (2 (m + A)).
+  const double h = s.timestep, n = 1000.0;
+  const double x = w.jointCoordinates(j)[0],
+               expected = 2.0 * h * h * n * (n + 1) / (2.0 * (m + 0.5));
+  std::printf("slide: %.9f m after 1 s, symplectic Euler's closed form %.9f (%.2e relative)\n", x,
+              expected, x / expected - 1.0);
+  EXPECT_NEAR(x / expected, 1.0, 1e-9);
+}
+
 TEST(SerialJoint, LimitsStopEachCoordinate) {
   // A body on a vertical slide then a hinge, released: it falls onto the slide's lower limit and
   // swings down onto the hinge's upper one, each held there.

@@ -92,10 +92,13 @@ struct CoordinateDef {
   /// kinetic energy, so the coordinate accelerates as if this much inertia were added along it.
   /// Integrated implicitly (docs/joints.md).
   double armature = 0.0;
+  /// A force (N) or torque (N m) applied along the coordinate, constant or in time: an actuator's
+  /// effort (MJCF's `motor`), set between steps with Joint::setForce. None: no force.
+  std::optional<Signal> force = std::nullopt;
 
   bool empty() const {
     return !limits && !motor && !spring && friction == 0.0 && !locked && !prescribed &&
-           armature == 0.0;
+           armature == 0.0 && !force;
   }
 };
 
@@ -236,6 +239,7 @@ class Joint {
   void setLimits(std::optional<JointLimits> limits, int coordinate = 0);
   void setSpring(std::optional<JointSpring> spring, int coordinate = 0);
   void setFriction(double friction, int coordinate = 0);
+  void setForce(std::optional<Signal> force, int coordinate = 0);
   /// A disabled joint (broken, or switched off) has no rows and no longer keeps its two bodies'
   /// shapes from colliding; its coordinates are still reported. Enabling it again pulls the
   /// bodies back together (a sleeping island notices at World::wake).

@@ -56,7 +56,7 @@ class MjcfImporter {
         defaults(e, "main", "");
       else if (tag == "asset")
         assets(e);
-      else if (tag != "worldbody" && tag != "equality")
+      else if (tag != "worldbody" && tag != "equality" && tag != "actuator")
         unused("<" + tag + ">");
     }
     for (XMLElement* w = root->FirstChildElement("worldbody"); w;
@@ -65,6 +65,9 @@ class MjcfImporter {
     for (XMLElement* q = root->FirstChildElement("equality"); q;
          q = q->NextSiblingElement("equality"))
       equality(q);
+    for (XMLElement* a = root->FirstChildElement("actuator"); a;
+         a = a->NextSiblingElement("actuator"))
+      actuators(a);
     warn();
     io::completeImported(scene_, "body");
     return std::move(scene_);
@@ -517,6 +520,9 @@ class MjcfImporter {
     const double friction = number(e, "joint", cls, "frictionloss", 0.0);
     if (friction < 0) fail(where(e), "frictionloss must be >= 0");
     if (type != "ball") c.friction = friction;
+    for (const char* a :
+         {"solreflimit", "solimplimit", "solreffriction", "solimpfriction", "margin"})
+      if (attribute(e, "joint", cls, a)) unused(fmt::format("joint {}", a));
     const double armature = number(e, "joint", cls, "armature", 0.0);
     if (armature < 0) fail(where(e), "armature must be >= 0");
     if (type != "ball") c.armature = armature;
@@ -525,6 +531,82 @@ class MjcfImporter {
       c = CoordinateDef{};
     }
     return c;
+  }
+
+  // ---- actuators: each on one joint's coordinate, at zero control (MuJoCo's start) ----
+
+  void actuators(const XMLElement* list) {
+    for (const XMLElement* e = list->FirstChildElement(); e; e = e->NextSiblingElement()) {
+      const std::string kind = e->Name();
+      if (kind != "motor" && kind != "position" && kind != "velocity") {
+        unused("<actuator><" + kind + ">");
+        continue;
+      }
+      const char* joint = e->Attribute("joint");
+      if (!joint) {  // tendon, site, body transmissions
+        unused("<actuator><" + kind + "> without a joint");
+        continue;
+      }
+      const auto found = joint_coordinate_.find(joint);
+      if (found == joint_coordinate_.end())
+        fail(where(e), fmt::format("joint: no hinge or slide joint named '{}'", joint));
+      SceneJoint& j = scene_.joints[found->second.first];
+      CoordinateDef& c = j.def.coordinates[static_cast<std::size_t>(found->second.second)];
+      actuator(e, kind, classOf(e, "main"), c);
+    }
+  }
+
+  // MuJoCo's actuator on a joint of coordinate q, with gear g and control u (0 until a controller
+  // sets it, clamped to ctrlrange): its length is g q and its force f acts on q as g f:
+  //   motor:    f = u                 -> a force g u along q (CoordinateDef::force)
+  //   position: f = kp (u - g q)      -> a servo of stiffness kp g^2 towards u / g
+  //   velocity: f = kv (u - g q')     -> a damped motor of damping kv g^2 towards u / g
+  // forcerange bounds f: the servo's max_force is g times it.
+  void actuator(const XMLElement* e, const std::string& kind, const std::string& cls,
+                CoordinateDef& c) {
+    const auto gear = vector(e, kind, cls, "gear", 0);
+    const double g = gear && !gear->empty() ? (*gear)[0] : 1.0;
+    if (gear && gear->size() > 1 &&
+        std::any_of(gear->begin() + 1, gear->end(), [](double v) { return v != 0.0; }))
+      unused("actuator gear beyond its first number");
+    if (!(g != 0.0)) fail(where(e), "gear: must not be zero");
+    double control = 0.0;
+    const std::string ctrllimited = attribute(e, kind, cls, "ctrllimited").value_or("auto");
+    const auto ctrlrange = vector(e, kind, cls, "ctrlrange", 2);
+    if (ctrlrange && ctrllimited != "false")
+      control = std::clamp(control, (*ctrlrange)[0], std::max((*ctrlrange)[0], (*ctrlrange)[1]));
+    double max_force = kInfinity;
+    const std::string forcelimited = attribute(e, kind, cls, "forcelimited").value_or("auto");
+    if (const auto range = vector(e, kind, cls, "forcerange", 2);
+        range && forcelimited != "false") {
+      if (!((*range)[0] <= 0.0 && (*range)[1] >= 0.0))
+        fail(where(e), "forcerange: must contain zero");
+      if ((*range)[0] != -(*range)[1]) unused("asymmetric actuator forcerange (the larger bound)");
+      max_force = std::abs(g) * std::max(-(*range)[0], (*range)[1]);
+    }
+    if (kind == "motor") {
+      const double force = g * control;
+      c.force = Signal(c.force ? c.force->at(0.0) + force : force);
+      return;
+    }
+    if (c.motor) fail(where(e), "a second position or velocity actuator on one joint");
+    JointMotor m;
+    m.max_force = max_force;
+    if (kind == "position") {
+      const double kp = number(e, kind, cls, "kp", 1.0);
+      if (!(kp > 0.0)) fail(where(e), "kp: must be > 0");
+      m.target_position = Signal(control / g);
+      m.stiffness = kp * g * g;
+      const double kv = number(e, kind, cls, "kv", 0.0);
+      if (kv < 0.0) fail(where(e), "kv: must be >= 0");
+      m.damping = kv * g * g;
+    } else {
+      const double kv = number(e, kind, cls, "kv", 1.0);
+      if (!(kv > 0.0)) fail(where(e), "kv: must be > 0");
+      m.target_velocity = Signal(control / g);
+      m.damping = kv * g * g;
+    }
+    c.motor = m;
   }
 
   // fromto's segment: its middle and direction as a frame (z along it), and its length.
@@ -550,7 +632,7 @@ class MjcfImporter {
   // A geom as a shape (placed by the caller). `density_body`: the body whose mass comes from its
   // geoms (then the shape takes a density), none when an <inertial> gives it.
   ShapeDef geom(const XMLElement* e, const std::string& cls, bool on_static,
-                const BodyDef* density_body) const {
+                const BodyDef* density_body) {
     ShapeDef s;
     const std::string type = attribute(e, "geom", cls, "type").value_or("sphere");
     const std::vector<double> size =
@@ -591,6 +673,10 @@ class MjcfImporter {
     if (s.type == ShapeType::Capsule || s.type == ShapeType::Cylinder) s.length = 2.0 * half_length;
     const auto friction = vector(e, "geom", cls, "friction", 0);
     if (friction && !friction->empty()) s.friction = (*friction)[0];
+    if (friction && friction->size() > 1) unused("geom friction's torsional and rolling parts");
+    // Contact softness and dimensionality: linx's contacts are its own (docs/model-import.md).
+    for (const char* a : {"condim", "solref", "solimp", "solmix", "margin", "gap", "priority"})
+      if (attribute(e, "geom", cls, a)) unused(fmt::format("geom {}", a));
     s.group = static_cast<std::uint32_t>(number(e, "geom", cls, "contype", 1.0));
     s.mask = static_cast<std::uint32_t>(number(e, "geom", cls, "conaffinity", 1.0));
     if (density_body && isSolid(s.type)) {

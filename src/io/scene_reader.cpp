@@ -37,9 +37,9 @@ SceneError::SceneError(std::string file, std::string field, std::string problem)
 namespace {
 
 // What acts on a joint's free coordinate (CoordinateDef).
-constexpr std::string_view kCoordinateFields[] = {"limits",    "motor",   "spring",
-                                                  "friction",  "locked",  "prescribed",
-                                                  "reference", "initial", "armature"};
+constexpr std::string_view kCoordinateFields[] = {"limits",   "motor",      "spring",    "friction",
+                                                  "locked",   "prescribed", "reference", "initial",
+                                                  "armature", "force"};
 
 using json = nlohmann::json;
 
@@ -1074,6 +1074,10 @@ class Reader {
         if (c.locked && n.value.contains(key))
           fail(childPath(n.path, key), "a locked coordinate takes nothing else");
     }
+    if (auto v = get(n, "force")) {
+      c.force = signal(*v);
+      if (c.locked) fail(v->path, "a locked coordinate does not move");
+    }
     if (auto v = get(n, "armature")) {
       c.armature = nonNegative(*v);
       if (c.locked) fail(v->path, "a locked coordinate does not move");
@@ -1085,7 +1089,7 @@ class Reader {
     }
     if (auto v = get(n, "prescribed")) {
       c.prescribed = signal(*v);
-      for (std::string_view key : {"limits", "motor", "spring", "friction"})
+      for (std::string_view key : {"limits", "motor", "spring", "friction", "armature", "force"})
         if (n.value.contains(key))
           fail(childPath(n.path, key),
                "a prescribed coordinate takes nothing else (it moves as the table says)");

@@ -503,6 +503,7 @@ class Writer {
     putIfChanged(j, "locked", c.locked, d.locked);
     if (c.prescribed) j["prescribed"] = signal(*c.prescribed, childPath(path, "prescribed"));
     putIfChanged(j, "armature", c.armature, d.armature, path);
+    if (c.force) j["force"] = signal(*c.force, childPath(path, "force"));
     putIfChanged(j, "reference", c.reference, d.reference, path);
     if (c.initial) j["initial"] = number(*c.initial, childPath(path, "initial"));
     return j;

@@ -45,6 +45,10 @@ void Joint::setSpring(std::optional<JointSpring> spring, int coordinate) {
   def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.spring = spring; });
 }
 
+void Joint::setForce(std::optional<Signal> force, int coordinate) {
+  def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.force = std::move(force); });
+}
+
 void Joint::setFriction(double friction, int coordinate) {
   def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.friction = friction; });
 }

@@ -193,16 +193,18 @@ void validateAxes(const std::vector<SerialAxis>& axes) {
 }
 
 void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
-  if (c.locked && (c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0))
+  if (c.locked &&
+      (c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0 || c.force))
     throw std::invalid_argument(
         prefix +
-        "locked: a locked coordinate takes no limits, motor, spring, friction or armature");
+        "locked: a locked coordinate takes no limits, motor, spring, friction, armature or force");
   if (c.prescribed) {
-    if (c.locked || c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0)
+    if (c.locked || c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0 ||
+        c.force)
       throw std::invalid_argument(
           prefix +
           "prescribed: a prescribed coordinate takes no limits, motor, spring, friction, "
-          "armature or lock");
+          "armature, force or lock");
     validateSignal(*c.prescribed, prefix + "prescribed");
   }
   if (!std::isfinite(c.reference))
@@ -217,6 +219,7 @@ void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
     throw std::invalid_argument(prefix + "friction: must be finite and >= 0");
   if (!(std::isfinite(c.armature) && c.armature >= 0.0))
     throw std::invalid_argument(prefix + "armature: must be finite and >= 0");
+  if (c.force) validateSignal(*c.force, prefix + "force");
   try {
     if (c.motor) validateMotor(*c.motor);
     if (c.spring) validateSpring(*c.spring);

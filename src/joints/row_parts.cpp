@@ -247,6 +247,13 @@ void driveRow(const JointContext& ctx, double stiffness, double damping, double 
   row.hi = h * max_force;
 }
 
+void forceRow(const JointContext& ctx, double force, Row& row) {
+  row.kind = RowKind::Motor;
+  row.phi = 0.0;
+  row.speed = 0.0;
+  row.lo = row.hi = ctx.h * force;
+}
+
 void armatureRow(const JointContext& ctx, double armature, Row& row) {
   const double rate =
       ctx.start ? rowRate(row, ctx.start->first, ctx.start->second) : rowRate(row, ctx.b1, ctx.b2);

@@ -158,18 +158,22 @@ void driveRow(const JointContext& ctx, double stiffness, double damping, double 
 /// of momentum: implicit, the coordinate moves as if A were added to its inertia.
 void armatureRow(const JointContext& ctx, double armature, Row& row);
 
+/// Turns a coordinate row into a given force F along the coordinate (CoordinateDef::force): its
+/// impulse is h F, whatever the rest of the solve does (lo = hi = h F).
+void forceRow(const JointContext& ctx, double force, Row& row);
+
 /// Row slot of part `part` (0 lower limit, 1 upper limit, 2 motor, 3 spring, 4 friction, 5 lock,
-/// 6 prescribed, 7 armature)
+/// 6 prescribed, 7 armature, 8 force)
 /// of free coordinate `index`: after every joint's equality rows (slots below 16).
 constexpr int coordinateSlot(int index, int part) {
-  return 16 + 8 * index + part;
+  return 16 + 16 * index + part;
 }
 /// Whether a row's slot (its key's low byte) is a prescribed coordinate's (part 6).
 constexpr bool isPrescribedSlot(int slot) {
-  return slot >= 16 && (slot - 16) % 8 == 6;
+  return slot >= 16 && (slot - 16) % 16 == 6;
 }
-/// Rows a free coordinate may add: two limits, a motor, a spring, friction, armature.
-inline constexpr int kCoordinateRows = 6;
+/// Rows a free coordinate may add: two limits, a motor, a spring, friction, armature, a force.
+inline constexpr int kCoordinateRows = 7;
 
 /// Appends the limit rows (only those reached), the motor row, the spring row and the friction row
 /// of free coordinate `index` (as `c` defines them) to rows[n...]; `coordinateRow(row)` fills a
@@ -229,6 +233,10 @@ int coordinateRows(const JointContext& ctx, const CoordinateDef& c, int index, d
   }
   if (c.armature > 0.0) {
     armatureRow(ctx, c.armature, next(7));
+    ++n;
+  }
+  if (c.force) {  // over the step, taken at its middle
+    forceRow(ctx, c.force->at(ctx.time + 0.5 * ctx.h), next(8));
     ++n;
   }
   return n;
