@@ -13,20 +13,6 @@
 namespace bench {
 namespace {
 
-const char* solverName(linx::SolverType type) {
-  switch (type) {
-    case linx::SolverType::Auto:
-      return "auto";
-    case linx::SolverType::Exact:
-      return "exact";
-    case linx::SolverType::Pgs:
-      return "pgs";
-    case linx::SolverType::Soft:
-      return "soft";
-  }
-  return "?";
-}
-
 linx::Scene import(const std::filesystem::path& path) {
   try {
     return linx::importMjcf(path);
@@ -53,7 +39,7 @@ class LinxModel final : public ModelEngine {
   std::string settings() const override {
     const linx::SolverSettings& s = world_.settings().solver;
     return fmt::format("default: {} ({} it max); the file's h {:g} s and gravity",
-                       solverName(s.type), s.iterations, timestep());
+                       linx::solverTypeName(s.type), s.iterations, timestep());
   }
   int movingBodies() const override {
     int n = 0;
