@@ -100,7 +100,7 @@ Rates ratesOf(const Twists& s, double w = 1.0) {
 }
 // The metric of the coordinates' rows: the bodies' velocities at a step's start, which the solve
 // made to fit the joint at the poses before, do not quite fit it at the new ones (a hinge's
-// centre, carried round by the turn, has a little velocity across it, O(w^2 r h)), and armature
+// centre, carried round by the turn, has a little velocity across it, O(omega^2 r h)), and armature
 // acts on the coordinate's rate there: weighing rotation over displacement (a displacement of 10 m
 // counts as a radian) keeps a hinge's rate its turning rate, as a hinge joint's angle row has it.
 constexpr double kRateMetric = 1e-2;
