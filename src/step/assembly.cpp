@@ -33,7 +33,9 @@ JointContext contextOf(std::span<const Body> bodies, const Joint& j, const Solve
   JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
                    def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
   ctx.time = time;
-  if (!start.empty()) {
+  // Only armature reads the velocities at the start.
+  const auto armature = [](const CoordinateDef& c) { return c.armature > 0.0; };
+  if (!start.empty() && std::any_of(def.coordinates.begin(), def.coordinates.end(), armature)) {
     const auto at = [&](BodyId id, const BodyState& now) {
       BodyState s = now;
       if (!id.isWorld()) {
