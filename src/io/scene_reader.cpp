@@ -1070,18 +1070,13 @@ class Reader {
     if (auto v = get(n, "friction")) c.friction = nonNegative(*v);
     if (auto v = get(n, "locked")) {
       c.locked = boolean(*v);
-      for (std::string_view key : {"limits", "motor", "spring", "friction", "prescribed"})
+      for (std::string_view key :
+           {"limits", "motor", "spring", "friction", "prescribed", "armature", "force"})
         if (c.locked && n.value.contains(key))
           fail(childPath(n.path, key), "a locked coordinate takes nothing else");
     }
-    if (auto v = get(n, "force")) {
-      c.force = signal(*v);
-      if (c.locked) fail(v->path, "a locked coordinate does not move");
-    }
-    if (auto v = get(n, "armature")) {
-      c.armature = nonNegative(*v);
-      if (c.locked) fail(v->path, "a locked coordinate does not move");
-    }
+    if (auto v = get(n, "force")) c.force = signal(*v);
+    if (auto v = get(n, "armature")) c.armature = nonNegative(*v);
     if (auto v = get(n, "reference")) c.reference = number(*v);
     if (auto v = get(n, "initial")) {
       c.initial = number(*v);
