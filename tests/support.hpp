@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -130,6 +131,18 @@ inline Oscillation jointOscillation(World& world, JointId joint, int steps) {
     q.push_back(world.jointCoordinates(joint)[0]);
   }
   return oscillation(t, std::move(q));
+}
+
+/// jointOscillation of a pendulum's joint, printed beside its closed form `truth`.
+inline Oscillation swingAgainst(World& world, JointId joint, int steps,
+                                const PendulumOnAxis& truth) {
+  const Oscillation swing = jointOscillation(world, joint, steps);
+  std::printf(
+      "pendulum: amplitude %.6f rad (closed form %.6f), period %.9f s (closed form %.9f "
+      "s, relative error %.2e)\n",
+      swing.amplitude, truth.amplitude, swing.period, truth.period,
+      swing.period / truth.period - 1.0);
+  return swing;
 }
 
 /// A fresh folder under the system's temporary folder, removed with its files at the end.
