@@ -6,6 +6,7 @@
 #include <linx/signal.hpp>
 #include <linx/types.hpp>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,19 +47,26 @@ struct BodyDef {
   std::vector<ShapeDef> shapes;  ///< for drawing now and contacts later
 };
 
-/// Opaque index of a body in its World. Index -1 stands for the fixed world frame.
+/// A body of a World: its slot and the slot's generation. Index -1 stands for the fixed world
+/// frame. A removed body's slot may be taken by a later body with the next generation, so an id
+/// kept past World::removeBody refers to nothing (World::contains) instead of to the newcomer.
 struct BodyId {
   int index = -1;
+  std::uint32_t generation = 0;
   bool isWorld() const { return index < 0; }
   friend bool operator==(BodyId, BodyId) = default;
 };
 inline constexpr BodyId kWorldBody{};
+
+class World;
 
 class Body {
  public:
   explicit Body(const BodyDef& def);
 
   const std::string& name() const { return name_; }
+  /// Its id in its world (World::createBody's).
+  BodyId id() const { return id_; }
   bool isStatic() const { return is_static_; }
   bool isKinematic() const { return is_kinematic_; }
   /// Moved by forces, joints and contacts: neither static nor kinematic.
@@ -107,7 +115,9 @@ class Body {
   double angularDamping() const { return angular_damping_; }
 
  private:
+  friend class World;
   std::string name_;
+  BodyId id_;
   bool is_static_ = false;
   bool is_kinematic_ = false;
   double mass_ = 0, inv_mass_ = 0;

@@ -91,8 +91,10 @@ struct WorldSettings {
   int threads = 1;  ///< in [0, kMaxThreads]
 };
 
+/// A joint of a World: its slot and the slot's generation (as BodyId).
 struct JointId {
   int index = -1;
+  std::uint32_t generation = 0;
   friend bool operator==(JointId, JointId) = default;
 };
 
@@ -123,11 +125,27 @@ class World {
   const WorldSettings& settings() const { return settings_; }
 
   /// Throws std::invalid_argument for a non-positive mass or inertia on a dynamic body, a
-  /// non-finite number, or a duplicate name.
+  /// non-finite number, or a duplicate name. Between steps as well as before the first.
   BodyId createBody(const BodyDef& def);
   /// Creates a joint of a registered type at the bodies' current poses; throws
   /// std::invalid_argument for a bad definition or unknown bodies.
   JointId createJoint(std::string_view type, const JointDef& def);
+  /// Removes a body between steps with all that holds it: its joints (as removeJoint), its
+  /// standing loads and its path. The bodies it touched in the last step wake (they may have lost
+  /// their support). Its id, and its joints', refer to nothing from then on (contains() is false,
+  /// body() throws); a later createBody may take its slot, under a new generation. contacts()
+  /// keeps naming it until the next step. Throws std::out_of_range for an id that is not one of
+  /// this world's bodies.
+  void removeBody(BodyId id);
+  /// Removes a joint between steps; its two bodies wake. Its id refers to nothing from then on;
+  /// a later createJoint may take its slot. Throws std::out_of_range for an unknown id.
+  void removeJoint(JointId id);
+  /// Whether the id is one of this world's bodies (not removed); false for the world frame.
+  bool contains(BodyId id) const;
+  bool contains(JointId id) const;
+  /// The world's bodies and joints, in slot order.
+  std::vector<BodyId> bodyIds() const;
+  std::vector<JointId> jointIds() const;
 
   /// Adds a standing load: a force (at a point) and a torque on a body at every step, constant or
   /// given in time (their values at each step's start). Throws std::invalid_argument for a static
@@ -140,8 +158,12 @@ class World {
   /// step the world. An empty function removes it.
   void setForceCallback(std::function<void(World&)> callback);
 
+  /// The number of body (joint) slots: ids run from index 0 to bodyCount() - 1. Until something
+  /// is removed, every slot holds a body (BodyId{i} is the i-th created); after, some may be
+  /// empty (contains(), bodyIds()).
   int bodyCount() const { return static_cast<int>(bodies_.size()); }
   int jointCount() const { return static_cast<int>(joints_.size()); }
+  /// Throws std::out_of_range for an id that is not one of this world's (contains()).
   Body& body(BodyId id);
   const Body& body(BodyId id) const;
   Joint& joint(JointId id);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "collision/aabb.hpp"
 #include "collision/geometry.hpp"
@@ -109,16 +110,54 @@ bool mayTouch(const Body& a, const Body& b, const collision::ContactPoint& p, do
 }
 }  // namespace
 
-void ContactStage::addBody(const Body& body) {
+void ContactStage::setBody(int index, const Body& body) {
   // Prepare every shape first: a shape that throws leaves the stage as it was.
   std::vector<std::shared_ptr<const collision::Geometry>> prepared;
   for (const ShapeDef& shape : body.shapes()) prepared.push_back(collision::prepareGeometry(shape));
-  const int index = static_cast<int>(first_shape_.size());
-  first_shape_.push_back(static_cast<int>(geometry_.size()));
+  // The shapes go at the end, whatever the slot: the others keep their indices (and the keys of
+  // their contacts' warm start).
+  const auto slot = static_cast<std::size_t>(index);
+  if (slot == first_shape_.size()) first_shape_.push_back(0);
+  first_shape_[slot] = static_cast<int>(geometry_.size());
   for (auto& g : prepared) {
     geometry_.push_back(std::move(g));
     shape_body_.push_back(index);
   }
+  // A body new in an old slot does not rest where the old one did.
+  if (slot < detected_still_.size()) detected_still_[slot] = 0;
+}
+
+void ContactStage::removeBody(int index) {
+  const auto slot = static_cast<std::size_t>(index);
+  for (std::size_t s = static_cast<std::size_t>(first_shape_[slot]);
+       s < shape_body_.size() && shape_body_[s] == index; ++s) {
+    shape_body_[s] = -1;
+    geometry_[s].reset();
+    ++removed_shapes_;
+  }
+  if (slot < detected_still_.size()) detected_still_[slot] = 0;
+  if (removed_shapes_ > 64 && 2 * removed_shapes_ > shape_body_.size()) packShapes();
+}
+
+void ContactStage::packShapes() {
+  std::vector<std::shared_ptr<const collision::Geometry>> geometry;
+  std::vector<int> shape_body;
+  for (std::size_t b = 0; b < first_shape_.size(); ++b) {
+    const int start = static_cast<int>(geometry.size());
+    for (auto s = static_cast<std::size_t>(first_shape_[b]);
+         s < shape_body_.size() && shape_body_[s] == static_cast<int>(b); ++s) {
+      geometry.push_back(std::move(geometry_[s]));
+      shape_body.push_back(static_cast<int>(b));
+    }
+    first_shape_[b] = start;
+  }
+  geometry_.swap(geometry);
+  shape_body_.swap(shape_body);
+  removed_shapes_ = 0;
+  // The kept points name shapes by their old indices: forget them.
+  last_records_.clear();
+  previous_.clear();
+  detected_ = false;
 }
 
 void ContactStage::touching(int body, std::vector<int>& out) const {
@@ -153,6 +192,12 @@ void ContactStage::detect(std::span<const Body> bodies,
   parallel::forEach(static_cast<std::ptrdiff_t>(geometry_.size()), threads, kParallelShapes,
                     [&](std::ptrdiff_t is) {
                       const auto s = static_cast<std::size_t>(is);
+                      if (shape_body_[s] < 0) {  // removed: a box that overlaps nothing
+                        const double nan = std::numeric_limits<double>::quiet_NaN();
+                        boxes_[s] = collision::Aabb{Vec3::Constant(nan), Vec3::Constant(nan)};
+                        reach[s] = 0.0;
+                        return;
+                      }
                       const Body& body = bodies[static_cast<std::size_t>(shape_body_[s])];
                       const int local = static_cast<int>(s) -
                                         first_shape_[static_cast<std::size_t>(shape_body_[s])];
@@ -376,9 +421,16 @@ void ContactStage::store(std::span<const Body> bodies, std::span<const double> l
         const Impulse shown =
             reported.empty() ? impulse
                              : Impulse{reported[k], reported[f] * r.t1 + reported[f + 1] * r.t2};
-        contacts_[out] = Contact{BodyId{r.body_a}, BodyId{r.body_b}, r.shape_a,     r.shape_b,
-                                 r.point.point,    r.point.normal,   r.point.depth, shown.normal,
-                                 shown.friction,   r.point.feature};
+        contacts_[out] = Contact{bodies[static_cast<std::size_t>(r.body_a)].id(),
+                                 bodies[static_cast<std::size_t>(r.body_b)].id(),
+                                 r.shape_a,
+                                 r.shape_b,
+                                 r.point.point,
+                                 r.point.normal,
+                                 r.point.depth,
+                                 shown.normal,
+                                 shown.friction,
+                                 r.point.feature};
       });
 }
 

@@ -41,9 +41,14 @@ struct ContactRecord {
 
 class ContactStage {
  public:
-  /// Prepares the shapes of a newly created body (hulls, meshes). Bodies are added in order.
-  /// Throws std::invalid_argument for shapes that cannot be prepared.
-  void addBody(const Body& body);
+  /// Prepares the shapes of a body created in slot `index` (hulls, meshes): a new slot
+  /// (bodies are added in order) or one that removeBody freed. Throws std::invalid_argument for
+  /// shapes that cannot be prepared, leaving the stage as it was.
+  void setBody(int index, const Body& body);
+  /// Drops the shapes of the body in slot `index` (World::removeBody): they meet nothing from
+  /// then on. The other shapes keep their indices and their contacts' warm start, until removed
+  /// shapes outnumber the rest and the shapes are packed again (one step without warm start).
+  void removeBody(int index);
 
   /// Finds this step's contact points from the bodies' current poses and velocities, the
   /// narrowphase split over `threads` (the records are the same for any count).
@@ -74,8 +79,10 @@ class ContactStage {
   };
 
   std::vector<std::shared_ptr<const collision::Geometry>> geometry_;  // per shape, flattened
-  std::vector<int> first_shape_;  // body i's shapes start at first_shape_[i] in geometry_
-  std::vector<int> shape_body_;   // the body of each flattened shape
+  std::vector<int> first_shape_;    // body i's shapes start at first_shape_[i] in geometry_
+  std::vector<int> shape_body_;     // the body of each flattened shape, -1 for a removed one
+  std::size_t removed_shapes_ = 0;  // entries of shape_body_ that are -1
+  void packShapes();
   std::vector<collision::Aabb> boxes_;
   std::vector<Pose> poses_;    // per shape: its frame in the world this step
   std::vector<double> reach_;  // per shape: how far its points travel in the step (m)

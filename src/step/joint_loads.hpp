@@ -27,6 +27,10 @@ class JointLoads {
   JointReaction of(std::size_t joint) const {
     return joint < loads_.size() ? loads_[joint] : JointReaction{};
   }
+  /// Joint `joint` reads zero until the next measure (a removed joint's slot).
+  void forget(std::size_t joint) {
+    if (joint < loads_.size()) loads_[joint] = JointReaction{};
+  }
 
  private:
   std::vector<JointReaction> loads_, measured_;

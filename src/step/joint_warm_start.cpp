@@ -42,4 +42,9 @@ void JointWarmStart::store(std::span<const Row> rows, std::span<const double> la
   sorted_ready_ = false;
 }
 
+void JointWarmStart::forget(std::size_t joint) {
+  for (std::size_t k = 0; k < keys_.size(); ++k)
+    if ((keys_[k] >> 8) == joint + 1) lambda_[k] = 0.0;
+}
+
 }  // namespace linx::step

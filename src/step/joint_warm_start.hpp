@@ -23,6 +23,9 @@ class JointWarmStart {
   void load(std::span<const Row> rows, std::span<double> lambda);
   /// Keeps the impulses of these rows for the next load (replacing what was kept).
   void store(std::span<const Row> rows, std::span<const double> lambda);
+  /// Zeroes what was kept for joint `joint`'s rows (key (joint + 1) << 8 | slot): a removed
+  /// joint's slot, which a new joint may take before the next store.
+  void forget(std::size_t joint);
 
  private:
   std::vector<std::uint64_t> keys_;  // the stored rows' keys, in their order

@@ -26,6 +26,10 @@ void PostStabilization::beginStep(std::span<const Body> bodies) {
   if (!same || ends_since_remembered_ != 1) previous_.clear();
 }
 
+void PostStabilization::forget(std::size_t joint) {
+  std::erase_if(previous_, [&](const Row& r) { return (r.key >> 8) == joint + 1; });
+}
+
 void PostStabilization::endStep(std::span<const Body> bodies) {
   ++ends_since_remembered_;
   poses_.resize(bodies.size());

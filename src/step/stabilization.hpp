@@ -63,6 +63,9 @@ class PostStabilization {
   void beginStep(std::span<const Body> bodies);
   /// Records the bodies' poses at the end of a step.
   void endStep(std::span<const Body> bodies);
+  /// Forgets the remembered rows of joint `joint` (keys (joint + 1) << 8 | slot): a removed
+  /// joint's slot, whose next joint's rows must not be measured against them.
+  void forget(std::size_t joint);
 
   /// Runs at most `iterations` Newton iterations, stopping once every error is below
   /// `settings.projection_tolerance`. Bodies flagged in `frozen` (sleeping ones) are held where

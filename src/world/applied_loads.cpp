@@ -25,11 +25,13 @@ LoadId AppliedLoads::add(const LoadDef& def, std::span<const Body> bodies) {
   Load load{def.body.index, def.force, def.torque, std::nullopt};
   if (def.point) load.point = body.pose().toLocal(*def.point);
   loads_.push_back(std::move(load));
-  return LoadId{count() - 1};
+  ++count_;
+  return LoadId{static_cast<int>(loads_.size()) - 1};
 }
 
 void AppliedLoads::apply(std::span<Body> bodies, double time) const {
   for (const Load& load : loads_) {
+    if (load.body < 0) continue;
     Body& body = bodies[static_cast<std::size_t>(load.body)];
     const Vec3 force = load.force.at(time);
     if (load.point)
@@ -38,6 +40,14 @@ void AppliedLoads::apply(std::span<Body> bodies, double time) const {
       body.applyForce(force);
     body.applyTorque(load.torque.at(time));
   }
+}
+
+void AppliedLoads::removeBody(int body) {
+  for (Load& load : loads_)
+    if (load.body == body) {
+      load.body = -1;
+      --count_;
+    }
 }
 
 }  // namespace linx

@@ -17,15 +17,19 @@ class AppliedLoads {
   LoadId add(const LoadDef& def, std::span<const Body> bodies);
   /// Adds each load's force (at its point, as the body carries it) and torque at `time`.
   void apply(std::span<Body> bodies, double time) const;
-  int count() const { return static_cast<int>(loads_.size()); }
+  /// The loads in effect (the removed ones not counted).
+  int count() const { return count_; }
+  /// Removes the loads on body `body` (a removed body); the others keep their ids.
+  void removeBody(int body);
 
  private:
   struct Load {
-    int body;
+    int body;  // -1: removed
     VectorSignal force, torque;
     std::optional<Vec3> point;  // in the body's frame
   };
   std::vector<Load> loads_;
+  int count_ = 0;
 };
 
 }  // namespace linx

@@ -12,6 +12,7 @@
 #include "step/step.hpp"
 #include "world/applied_loads.hpp"
 #include "world/joint_pose.hpp"
+#include "world/slots.hpp"
 
 #include <fmt/format.h>
 
@@ -42,9 +43,30 @@ bool driven(std::span<const Row> rows, std::span<const std::unique_ptr<Joint>> j
          std::any_of(bodies.begin(), bodies.end(), moving);
 }
 
+/// What stays in a removed joint's slot until a new joint takes it: no rows, no coordinates, no
+/// effect on collisions. It names the removed joint's body1, a slot that stays valid.
+class RemovedJoint final : public Joint {
+ public:
+  explicit RemovedJoint(BodyId body1) : Joint(defOf(body1)) { setEnabled(false); }
+  std::string_view type() const override { return "removed"; }
+  int maxRows() const override { return 0; }
+  int fill(const JointContext&, std::span<Row>) const override { return 0; }
+  JointCoordinates coordinates(const BodyState&, const BodyState&) const override {
+    return JointCoordinates(0);
+  }
+
+ private:
+  static JointDef defOf(BodyId body1) {
+    JointDef def;
+    def.body1 = body1;
+    return def;
+  }
+};
+
 }  // namespace
 
 struct World::Impl {
+  Slots body_slots, joint_slots;
   step::State step;
   step::FaultCheck check;
   // Names to indices: a scene of 64,000 bodies would otherwise spend seconds in duplicate checks.
@@ -110,40 +132,110 @@ BodyId World::createBody(const BodyDef& given) {
       throw bad("position and orientation must be finite, the quaternion non-zero");
   }
   Body body(def);
-  impl_->step.contact.addBody(body);  // prepares hulls and meshes; throws for bad ones
-  bodies_.push_back(std::move(body));
-  impl_->body_names.emplace(def.name, bodyCount() - 1);
-  if (def.path) impl_->paths.emplace_back(bodyCount() - 1, *def.path);
+  Slots& slots = impl_->body_slots;
+  const int slot = slots.next();
+  impl_->step.contact.setBody(slot, body);  // prepares hulls and meshes; throws for bad ones
+  slots.take();
+  body.id_ = BodyId{slot, slots.generation(slot)};
+  if (slot == bodyCount())
+    bodies_.push_back(std::move(body));
+  else
+    bodies_[static_cast<std::size_t>(slot)] = std::move(body);
+  impl_->body_names.emplace(def.name, slot);
+  if (def.path) impl_->paths.emplace_back(slot, *def.path);
   impl_->step.sleep.resize(bodyCount());
-  return BodyId{bodyCount() - 1};
+  impl_->step.sleep.wake(slot);  // a taken slot forgets its last body's rest
+  return BodyId{slot, slots.generation(slot)};
 }
 
 JointId World::createJoint(std::string_view type, const JointDef& def) {
-  auto valid = [&](BodyId id) { return id.isWorld() || id.index < bodyCount(); };
-  if (def.body1.isWorld() || !valid(def.body1))
-    throw std::invalid_argument("body1: must be a body of this world");
-  if (!valid(def.body2)) throw std::invalid_argument("body2: not a body of this world");
+  if (!contains(def.body1)) throw std::invalid_argument("body1: must be a body of this world");
+  if (!def.body2.isWorld() && !contains(def.body2))
+    throw std::invalid_argument("body2: not a body of this world");
   if (def.body1 == def.body2) throw std::invalid_argument("body1 and body2 are the same body");
   if (def.name.empty()) throw std::invalid_argument("name: must not be empty");
   if (findJoint(def.name))
     throw std::invalid_argument(fmt::format("duplicate joint name '{}'", def.name));
-  joints_.push_back(makeJoint(type, def, bodyState(def.body1), bodyState(def.body2)));
-  impl_->joint_names.emplace(def.name, jointCount() - 1);
+  auto joint = makeJoint(type, def, bodyState(def.body1), bodyState(def.body2));
+  Slots& slots = impl_->joint_slots;
+  const int slot = slots.take();
+  if (slot == jointCount())
+    joints_.push_back(std::move(joint));
+  else
+    joints_[static_cast<std::size_t>(slot)] = std::move(joint);
+  impl_->joint_names.emplace(def.name, slot);
   // A new joint may pull on sleeping bodies.
   impl_->step.sleep.wake(def.body1.index);
   if (!def.body2.isWorld()) impl_->step.sleep.wake(def.body2.index);
-  return JointId{jointCount() - 1};
+  return JointId{slot, slots.generation(slot)};
+}
+
+void World::removeBody(BodyId id) {
+  const Body& removed = body(id);  // checks the id
+  const auto slot = static_cast<std::size_t>(id.index);
+  for (const JointId j : jointIds()) {
+    const Joint& joint = *joints_[static_cast<std::size_t>(j.index)];
+    if (joint.body1() == id || joint.body2() == id) removeJoint(j);
+  }
+  step::wakeWithNeighbours(bodies_, impl_->step, id.index);  // they may lose their support
+  impl_->loads.removeBody(id.index);
+  std::erase_if(impl_->paths, [&](const auto& path) { return path.first == id.index; });
+  impl_->body_names.erase(removed.name());
+  impl_->step.contact.removeBody(id.index);
+  // What stays in the slot: a static body without shapes, which every stage passes over.
+  BodyDef empty;
+  empty.is_static = true;
+  bodies_[slot] = Body(empty);
+  impl_->body_slots.release(id.index);
+}
+
+void World::removeJoint(JointId id) {
+  const Joint& removed = joint(id);  // checks the id
+  const auto slot = static_cast<std::size_t>(id.index);
+  for (const BodyId b : {removed.body1(), removed.body2()})  // they may have hung on it
+    if (!b.isWorld()) impl_->step.sleep.wake(b.index);
+  impl_->joint_names.erase(removed.name());
+  impl_->step.joint_warm.forget(slot);
+  impl_->step.joint_loads.forget(slot);
+  impl_->step.stabilization.forget(slot);
+  joints_[slot] = std::make_unique<RemovedJoint>(removed.body1());
+  impl_->joint_slots.release(id.index);
+}
+
+bool World::contains(BodyId id) const {
+  return impl_->body_slots.matches(id.index, id.generation);
+}
+bool World::contains(JointId id) const {
+  return impl_->joint_slots.matches(id.index, id.generation);
+}
+
+std::vector<BodyId> World::bodyIds() const {
+  std::vector<BodyId> ids;
+  for (int i = 0; i < bodyCount(); ++i)
+    if (impl_->body_slots.used(i)) ids.push_back(BodyId{i, impl_->body_slots.generation(i)});
+  return ids;
+}
+std::vector<JointId> World::jointIds() const {
+  std::vector<JointId> ids;
+  for (int i = 0; i < jointCount(); ++i)
+    if (impl_->joint_slots.used(i)) ids.push_back(JointId{i, impl_->joint_slots.generation(i)});
+  return ids;
 }
 
 Body& World::body(BodyId id) {
-  if (id.index < 0 || id.index >= bodyCount()) throw std::out_of_range("no such body");
+  if (!contains(id))
+    throw std::out_of_range(id.index >= 0 && id.index < bodyCount() ? "no such body: it was removed"
+                                                                    : "no such body");
   return bodies_[static_cast<std::size_t>(id.index)];
 }
 const Body& World::body(BodyId id) const {
   return const_cast<World*>(this)->body(id);
 }
 Joint& World::joint(JointId id) {
-  if (id.index < 0 || id.index >= jointCount()) throw std::out_of_range("no such joint");
+  if (!contains(id))
+    throw std::out_of_range(id.index >= 0 && id.index < jointCount()
+                                ? "no such joint: it was removed"
+                                : "no such joint");
   return *joints_[static_cast<std::size_t>(id.index)];
 }
 const Joint& World::joint(JointId id) const {
@@ -153,15 +245,16 @@ const Joint& World::joint(JointId id) const {
 std::optional<BodyId> World::findBody(std::string_view name) const {
   const auto it = impl_->body_names.find(std::string(name));
   if (it == impl_->body_names.end()) return std::nullopt;
-  return BodyId{it->second};
+  return BodyId{it->second, impl_->body_slots.generation(it->second)};
 }
 std::optional<JointId> World::findJoint(std::string_view name) const {
   const auto it = impl_->joint_names.find(std::string(name));
   if (it == impl_->joint_names.end()) return std::nullopt;
-  return JointId{it->second};
+  return JointId{it->second, impl_->joint_slots.generation(it->second)};
 }
 
 BodyState World::bodyState(BodyId id) const {
+  if (!id.isWorld()) body(id);  // checks the id
   return step::stateOf(bodies_, id);
 }
 
@@ -218,12 +311,15 @@ void World::breakOverloadedJoints() {
     if (r.force.norm() > def.break_force.value_or(kInfinity) ||
         r.torque.norm() > def.break_torque.value_or(kInfinity)) {
       j.setEnabled(false);
-      breaks_.push_back(JointBreak{JointId{static_cast<int>(i)}, steps_, time_, r});
+      const int slot = static_cast<int>(i);
+      breaks_.push_back(
+          JointBreak{JointId{slot, impl_->joint_slots.generation(slot)}, steps_, time_, r});
     }
   }
 }
 
 LoadId World::addLoad(const LoadDef& def) {
+  if (!contains(def.body)) throw std::invalid_argument("body: must be a body of this world");
   return impl_->loads.add(def, bodies_);
 }
 
@@ -283,7 +379,7 @@ double World::jointError(JointId id) const {
 
 double World::maxJointError() const {
   double e = 0.0;
-  for (int i = 0; i < jointCount(); ++i) e = std::max(e, jointError(JointId{i}));
+  for (const JointId j : jointIds()) e = std::max(e, jointError(j));
   return e;
 }
 
