@@ -112,12 +112,18 @@ struct SerialAxis {
   Vec3 anchor = Vec3::Zero();  ///< a point on a hinge's axis (m); a slide does not use it
 };
 
-/// Plain definition of a joint. All fields in the world frame at creation. Not every type uses
-/// every field: a ball joint has no axis, a fixed joint neither axis nor coordinates.
+/// Plain definition of a joint. Points and directions in the world frame at creation, or with
+/// `local` in the bodies' frames. Not every type uses every field: a ball joint has no axis, a
+/// fixed joint neither axis nor coordinates.
 struct JointDef {
   std::string name;
   BodyId body1 = kWorldBody;  ///< must be a body
   BodyId body2 = kWorldBody;  ///< kWorldBody fixes body1 to the world
+  /// The joint attached to each body by a local frame: `anchor`, `axis` and `axes` are given in
+  /// body 1's frame (its centre of mass and axes), `anchor2` and `axis2` in body 2's (the world's
+  /// for the world), instead of all in the world frame at creation. The joint is made from them
+  /// at the bodies' poses at creation (Joint::def() then holds the world-frame form).
+  bool local = false;
   /// A point on the joint (m), world frame at creation; default: body1's centre of mass.
   std::optional<Vec3> anchor = std::nullopt;
   Vec3 axis = Vec3::UnitZ();  ///< hinge rotation axis / slider direction, world frame

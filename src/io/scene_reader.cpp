@@ -18,6 +18,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 #include <sstream>
 #include <system_error>
 #include <utility>
@@ -211,9 +212,15 @@ class Reader {
     expectArray(bodies);
     if (bodies.value.empty()) fail(bodies.path, "must contain at least one body");
     std::map<std::string, std::size_t> body_index;
+    // Where each body's centre of mass is in the frame the file states it in (not zero for a body
+    // that takes its mass from its shapes): joints in local frames are given in the stated frame.
+    std::vector<Vec3> centres;
     for (std::size_t i = 0; i < bodies.value.size(); ++i) {
       const Node item{bodies.value[i], itemPath(bodies.path, i)};
       BodyDef def = body(item);
+      const auto stated = get(item, "position");
+      centres.push_back(def.orientation.normalized().conjugate() *
+                        (def.position - (stated ? vec3(*stated) : Vec3::Zero())));
       const auto [it, inserted] = body_index.emplace(def.name, i);
       if (!inserted) {
         fail(childPath(item.path, "name"),
@@ -227,7 +234,7 @@ class Reader {
       std::map<std::string, std::size_t> joint_index;
       for (std::size_t i = 0; i < joints->value.size(); ++i) {
         const Node item{joints->value[i], itemPath(joints->path, i)};
-        SceneJoint joint = this->joint(item, scene.bodies, body_index);
+        SceneJoint joint = this->joint(item, scene.bodies, body_index, centres);
         const auto [it, inserted] = joint_index.emplace(joint.def.name, i);
         if (!inserted) {
           fail(childPath(item.path, "name"),
@@ -777,7 +784,8 @@ class Reader {
   }
 
   SceneJoint joint(const Node& n, const std::vector<BodyDef>& bodies,
-                   const std::map<std::string, std::size_t>& body_index) const {
+                   const std::map<std::string, std::size_t>& body_index,
+                   std::span<const Vec3> centres) const {
     expectObject(n);
     SceneJoint joint;
     JointDef& d = joint.def;
@@ -807,7 +815,7 @@ class Reader {
     std::vector<std::string_view> allowed{
         "name",  "type", "body1", "body2",       "anchor",       "axis",    "axis1",
         "axis2", "erp",  "cfm",   "collide",     "anchor1",      "anchor2", "length",
-        "rope",  "cone", "ratio", "break_force", "break_torque", "axes"};
+        "rope",  "cone", "ratio", "break_force", "break_torque", "axes",    "frame"};
     allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
@@ -828,6 +836,15 @@ class Reader {
       if (d.body2 == d.body1) fail(v->path, "a joint needs two different bodies");
     }
 
+    if (auto v = get(n, "frame")) {
+      const std::string frame = string(*v);
+      if (frame != "world" && frame != "local")
+        fail(v->path, fmt::format("unknown frame '{}' (expected \"world\": the world frame at the "
+                                  "start, or \"local\": each body's own frame)",
+                                  frame));
+      d.local = frame == "local";
+    }
+
     if (fields->uses_anchor2) {
       twoPoints(n, bodies, d);
       unused("anchor");
@@ -843,8 +860,9 @@ class Reader {
         d.anchor = vec3(require(n, "anchor"));
       } else if (auto v = get(n, "anchor")) {
         d.anchor = vec3(*v);
-      } else {
-        d.anchor = bodies[static_cast<std::size_t>(d.body1.index)].position;
+      } else {  // body 1's position
+        d.anchor =
+            d.local ? Vec3::Zero() : bodies[static_cast<std::size_t>(d.body1.index)].position;
       }
       for (std::string_view key : {"anchor1", "anchor2", "length", "rope"}) unused(key);
     }
@@ -854,7 +872,8 @@ class Reader {
       const Node axis2 = require(n, "axis2");
       d.axis2 = direction(axis2);
       const double cosine = d.axis.normalized().dot(d.axis2.normalized());
-      if (!fields->uses_ratio && std::abs(cosine) > 1e-6)
+      // In local frames they are in two bodies' frames: the world checks them when it makes it.
+      if (!fields->uses_ratio && !d.local && std::abs(cosine) > 1e-6)
         fail(axis2.path, fmt::format("must be perpendicular to axis1 (they are {:.6g} deg apart)",
                                      std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI));
       unused("axis");
@@ -909,7 +928,19 @@ class Reader {
     if (auto v = get(n, "collide")) d.collide = boolean(*v);
     if (auto v = get(n, "break_force")) d.break_force = positive(*v);
     if (auto v = get(n, "break_torque")) d.break_torque = positive(*v);
+    if (d.local) inCentreFrames(d, centres);
     return joint;
+  }
+
+  // A joint's points in local frames, from the frames the file states its bodies in to the bodies'
+  // own frames (JointDef::local), which sit at their centres of mass.
+  static void inCentreFrames(JointDef& d, std::span<const Vec3> centres) {
+    const auto centre = [&](BodyId id) {
+      return id.isWorld() ? Vec3::Zero() : centres[static_cast<std::size_t>(id.index)];
+    };
+    if (d.anchor) *d.anchor -= centre(d.body1);
+    if (d.anchor2) *d.anchor2 -= centre(d.body2);
+    for (SerialAxis& a : d.axes) a.anchor -= centre(d.body1);
   }
 
   // A serial joint's axes: each a hinge or a slider, with what acts on its coordinate.
@@ -1049,10 +1080,11 @@ class Reader {
       if (auto v = get(n, key)) return vec3(*v);
       if (body.isWorld())
         fail(childPath(n.path, key), "missing required field (the point held in the world)");
-      return bodies[static_cast<std::size_t>(body.index)].position;
+      return d.local ? Vec3::Zero() : bodies[static_cast<std::size_t>(body.index)].position;
     };
     d.anchor = point("anchor1", d.body1);
     d.anchor2 = point("anchor2", d.body2);
+    if (d.local) return;  // the world checks them at the bodies' poses
     const double apart = (*d.anchor - *d.anchor2).norm();
     if (!(apart > 1e-9))
       fail(childPath(n.path, n.value.contains("anchor2") ? "anchor2" : "anchor1"),

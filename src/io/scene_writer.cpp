@@ -423,16 +423,18 @@ class Writer {
     j["type"] = joint.type;
     j["body1"] = bodyName(d.body1, childPath(path, "body1"));
     if (!d.body2.isWorld()) j["body2"] = bodyName(d.body2, childPath(path, "body2"));
+    if (d.local) j["frame"] = "local";
+    // A default point is the body's position: the origin of its own frame.
+    const auto centre = [&](BodyId id) { return d.local ? Vec3::Zero() : centreAtCreation(id); };
     if (info->uses_anchor2) {
-      j["anchor1"] = vec3(d.anchor.value_or(centreAtCreation(d.body1)), childPath(path, "anchor1"));
-      j["anchor2"] =
-          vec3(d.anchor2.value_or(centreAtCreation(d.body2)), childPath(path, "anchor2"));
+      j["anchor1"] = vec3(d.anchor.value_or(centre(d.body1)), childPath(path, "anchor1"));
+      j["anchor2"] = vec3(d.anchor2.value_or(centre(d.body2)), childPath(path, "anchor2"));
       if (info->uses_length) {
         if (d.length) j["length"] = number(*d.length, childPath(path, "length"));
         if (d.rope) j["rope"] = true;
       }
     } else {
-      j["anchor"] = vec3(d.anchor.value_or(centreAtCreation(d.body1)), childPath(path, "anchor"));
+      j["anchor"] = vec3(d.anchor.value_or(centre(d.body1)), childPath(path, "anchor"));
     }
     if (info->uses_axis2) {
       j["axis1"] = direction(d.axis, childPath(path, "axis1"));

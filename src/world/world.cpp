@@ -5,6 +5,7 @@
 #include <linx/mass_properties.hpp>
 
 #include "dynamics/energy.hpp"
+#include "joints/local_frames.hpp"
 #include "joints/validation.hpp"
 #include "parallel/parallel_for.hpp"
 #include "step/assembly.hpp"
@@ -156,7 +157,8 @@ JointId World::createJoint(std::string_view type, const JointDef& def) {
   if (def.name.empty()) throw std::invalid_argument("name: must not be empty");
   if (findJoint(def.name))
     throw std::invalid_argument(fmt::format("duplicate joint name '{}'", def.name));
-  auto joint = makeJoint(type, def, bodyState(def.body1), bodyState(def.body2));
+  const BodyState b1 = bodyState(def.body1), b2 = bodyState(def.body2);
+  auto joint = makeJoint(type, joints::inWorldFrame(def, b1.pose, b2.pose), b1, b2);
   Slots& slots = impl_->joint_slots;
   const int slot = slots.take();
   if (slot == jointCount())
