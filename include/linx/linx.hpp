@@ -5,6 +5,7 @@
 #include <linx/contact.hpp>
 #include <linx/import.hpp>
 #include <linx/joint.hpp>
+#include <linx/joint_defs.hpp>
 #include <linx/loads.hpp>
 #include <linx/mass_properties.hpp>
 #include <linx/recorder.hpp>

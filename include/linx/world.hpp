@@ -4,6 +4,7 @@
 #include <linx/body.hpp>
 #include <linx/contact.hpp>
 #include <linx/joint.hpp>
+#include <linx/joint_defs.hpp>
 #include <linx/loads.hpp>
 #include <linx/solver.hpp>
 #include <linx/types.hpp>
@@ -130,6 +131,11 @@ class World {
   /// Creates a joint of a registered type at the bodies' current poses; throws
   /// std::invalid_argument for a bad definition or unknown bodies.
   JointId createJoint(std::string_view type, const JointDef& def);
+  /// The same from a definition of its own type (linx/joint_defs.hpp): HingeDef, UniversalDef, ...
+  template <TypedJointDef T>
+  JointId createJoint(const T& def) {
+    return createJoint(T::kType, toJointDef(def));
+  }
   /// Removes a body between steps with all that holds it: its joints (as removeJoint), its
   /// standing loads and its path. The bodies it touched in the last step wake (they may have lost
   /// their support). Its id, and its joints', refer to nothing from then on (contains() is false,

@@ -11,9 +11,8 @@ int main() {
   linx::BodyDef rod{.name = "rod", .mass = 1.0, .position = {0.5, 0, 0}};
   rod.inertia = linx::Vec3(1e-4, 1.0 / 12, 1.0 / 12).asDiagonal();
   const linx::BodyId id = world.createBody(rod);
-  const linx::JointId pivot = world.createJoint(
-      "hinge",
-      {.name = "pivot", .body1 = id, .anchor = linx::Vec3::Zero(), .axis = linx::Vec3::UnitY()});
+  const linx::JointId pivot = world.createJoint(linx::HingeDef{
+      .name = "pivot", .body1 = id, .anchor = linx::Vec3::Zero(), .axis = linx::Vec3::UnitY()});
   double t_bottom = -1.0;
   while (world.time() < 1.0 && t_bottom < 0.0) {
     world.step();

@@ -1,0 +1,286 @@
+// A definition per joint type, with only the fields that type takes: World::createJoint(HingeDef{
+// .name = "pivot", .body1 = rod, .anchor = ..., .axis = ..., .angle = {.limits = ...}}). Each is
+// the typed form of a JointDef (toJointDef), whose fields say what each one means; the common
+// ones come first in every struct, in the same order. A coordinate's fields are named as the type
+// names its coordinates (JointTypeInfo::coordinates, the scene format's names).
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/types.hpp>
+
+#include <concepts>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace linx {
+
+// The fields every type has, in this order (JointDef's meaning):
+//   name, body1, body2, local, then the type's own fields, then
+//   break_force, break_torque, erp, cfm, collide.
+
+/// Glues body1 to body2 (or the world) as they are at creation.
+struct FixedDef {
+  static constexpr std::string_view kType = "fixed";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< where the reaction torque is taken
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Translation along `axis` only.
+struct SliderDef {
+  static constexpr std::string_view kType = "slider";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  Vec3 axis = Vec3::UnitZ();
+  CoordinateDef position = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Rotation about `axis` through `anchor` only.
+struct HingeDef {
+  static constexpr std::string_view kType = "hinge";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required
+  Vec3 axis = Vec3::UnitZ();
+  CoordinateDef angle = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Rotation about `anchor` only.
+struct BallDef {
+  static constexpr std::string_view kType = "ball";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// A Cardan cross at `anchor`: `axis1` turns with body 1, `axis2` with body 2.
+struct UniversalDef {
+  static constexpr std::string_view kType = "universal";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required
+  Vec3 axis1 = Vec3::UnitZ();
+  Vec3 axis2 = Vec3::UnitY();  ///< perpendicular to axis1 at creation
+  CoordinateDef angle1 = {}, angle2 = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Translation along and rotation about `axis` through `anchor` (a piston).
+struct CylindricalDef {
+  static constexpr std::string_view kType = "cylindrical";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required
+  Vec3 axis = Vec3::UnitZ();
+  CoordinateDef position = {}, angle = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// A car's wheel (body 1) on its chassis (body 2): spinning about the axle `axis1`, steering about
+/// and sprung along `axis2`.
+struct Hinge2Def {
+  static constexpr std::string_view kType = "hinge2";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required: the wheel's centre
+  Vec3 axis1 = Vec3::UnitY();                 ///< the axle
+  Vec3 axis2 = Vec3::UnitZ();                 ///< steering and suspension
+  CoordinateDef wheel = {}, steering = {}, suspension = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// A massless rod (or a rope) between `anchor1` on body 1 and `anchor2` on body 2.
+struct DistanceDef {
+  static constexpr std::string_view kType = "distance";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor1 = std::nullopt;   ///< default body 1's centre
+  std::optional<Vec3> anchor2 = std::nullopt;   ///< default body 2's centre; required for the world
+  std::optional<double> length = std::nullopt;  ///< default the points' distance at creation
+  bool rope = false;
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// A ball joint whose twist axis `axis1` swings within an elliptical `cone`.
+struct ConeTwistDef {
+  static constexpr std::string_view kType = "cone_twist";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required
+  Vec3 axis1 = Vec3::UnitZ();                 ///< the twist axis
+  Vec3 axis2 = Vec3::UnitY();                 ///< perpendicular: the direction of swing1
+  std::optional<ConeLimit> cone = std::nullopt;
+  CoordinateDef twist = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Motion in the plane of `axis1` and `axis2` through `anchor`.
+struct PlanarDef {
+  static constexpr std::string_view kType = "planar";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required
+  Vec3 axis1 = Vec3::UnitX();
+  Vec3 axis2 = Vec3::UnitY();  ///< perpendicular to axis1
+  CoordinateDef x = {}, y = {}, angle = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Body 2 turning about `axis2` at `ratio` times body 1's rate about `axis1`.
+struct GearDef {
+  static constexpr std::string_view kType = "gear";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  Vec3 axis1 = Vec3::UnitZ();
+  Vec3 axis2 = Vec3::UnitZ();
+  double ratio = 1.0;  ///< non-zero; its sign is the sense
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Six axes, each locked, free, limited, driven or sprung: x, y, z along the joint's frame (axis1,
+/// axis2, axis1 x axis2), rx, ry, rz its Cardan angles.
+struct GenericDef {
+  static constexpr std::string_view kType = "generic";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor = std::nullopt;  ///< required
+  Vec3 axis1 = Vec3::UnitX();
+  Vec3 axis2 = Vec3::UnitY();
+  CoordinateDef x = {}, y = {}, z = {}, rx = {}, ry = {}, rz = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Nothing held: the distance between `anchor1` and `anchor2` is a coordinate for what acts on it
+/// (a spring, a linear actuator, a strut with stops).
+struct SpringDef {
+  static constexpr std::string_view kType = "spring";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::optional<Vec3> anchor1 = std::nullopt;
+  std::optional<Vec3> anchor2 = std::nullopt;
+  CoordinateDef length = {};  ///< limits are the shortest and longest lengths, spring.rest one
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// Body 2 (the rack) travelling along `axis2` by `ratio` (m/rad) times body 1's (the pinion's)
+/// turn about `axis1`.
+struct RackAndPinionDef {
+  static constexpr std::string_view kType = "rack_and_pinion";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  Vec3 axis1 = Vec3::UnitZ();
+  Vec3 axis2 = Vec3::UnitX();
+  double ratio = 1.0;  ///< the pitch radius (m/rad), non-zero
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// One hinge or slide of a SerialDef with what acts on its coordinate.
+struct SerialAxisDef {
+  bool linear = false;         ///< a slide along `axis` (else a hinge about it)
+  Vec3 axis = Vec3::UnitZ();   ///< non-zero direction
+  Vec3 anchor = Vec3::Zero();  ///< a point on a hinge's axis
+  CoordinateDef coordinate = {};
+};
+
+/// Hinges and slides in series (1 to 6), from body 2 to body 1 (JointDef::axes).
+struct SerialDef {
+  static constexpr std::string_view kType = "serial";
+  std::string name;
+  BodyId body1 = kWorldBody;
+  BodyId body2 = kWorldBody;
+  bool local = false;
+  std::vector<SerialAxisDef> axes = {};
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+  bool collide = false;
+};
+
+/// The JointDef each typed definition stands for (createJoint(T::kType, toJointDef(def)) makes
+/// the joint).
+JointDef toJointDef(const FixedDef& def);
+JointDef toJointDef(const SliderDef& def);
+JointDef toJointDef(const HingeDef& def);
+JointDef toJointDef(const BallDef& def);
+JointDef toJointDef(const UniversalDef& def);
+JointDef toJointDef(const CylindricalDef& def);
+JointDef toJointDef(const Hinge2Def& def);
+JointDef toJointDef(const DistanceDef& def);
+JointDef toJointDef(const ConeTwistDef& def);
+JointDef toJointDef(const PlanarDef& def);
+JointDef toJointDef(const GearDef& def);
+JointDef toJointDef(const GenericDef& def);
+JointDef toJointDef(const SpringDef& def);
+JointDef toJointDef(const RackAndPinionDef& def);
+JointDef toJointDef(const SerialDef& def);
+
+/// A typed joint definition: one of the structs above.
+template <class T>
+concept TypedJointDef = requires(const T& def) {
+  { T::kType } -> std::convertible_to<std::string_view>;
+  { toJointDef(def) } -> std::same_as<JointDef>;
+};
+
+}  // namespace linx
