@@ -1,4 +1,8 @@
 // Ball-and-socket joint: a conical pendulum against its closed form, and the joint's readouts.
+// Its limit (an upper bound on the angle of its relative rotation, MuJoCo's ball range): an arm
+// that gravity swings down comes to rest on it, at the bound's closed-form pose; a bob pushed to
+// twice the bound's swing stops at it without making energy; a spin about the arm is held too
+// (the whole rotation is bounded, not only the swing).
 #include "support.hpp"
 
 #include <gtest/gtest.h>
@@ -100,6 +104,128 @@ namespace {
 // Per-joint erp and cfm turn a joint into a spring-damper of stiffness k and damping c. For the
 // impulse-level rows of linx the mapping is erp = h k / (h k + c), cfm = 1 / (h (h k + c)):
 // at rest the row then holds lambda = -h k phi, the impulse of the spring force -k phi.
+/// A 1 kg bob on a 1 m arm from a ball joint at the origin, built along +x.
+BodyId armBob(World& world, const Vec3& v, const Vec3& w) {
+  BodyDef bob;
+  bob.name = "bob";
+  bob.mass = 1.0;
+  bob.inertia = Mat3::Identity() * 1e-3;
+  bob.position = Vec3(1, 0, 0);
+  bob.linear_velocity = v;
+  bob.angular_velocity = w;
+  return world.createBody(bob);
+}
+
+TEST(Ball, AnArmComesToRestOnItsLimit) {
+  // Built horizontal, limited to 0.4 rad: gravity swings it down until the limit holds it, at
+  // (cos 0.4, 0, -sin 0.4), still.
+  WorldSettings s;
+  s.sleep.enabled = false;
+  World world(s);
+  const BodyId bob = armBob(world, Vec3::Zero(), Vec3::Zero());
+  const JointId j = world.createJoint(BallDef{.name = "socket",
+                                              .body1 = bob,
+                                              .anchor = Vec3::Zero(),
+                                              .angle = {.limits = JointLimits{0.0, 0.4}}});
+  double most = 0.0;
+  for (int n = 0; n < 3000; ++n) {
+    world.step();
+    most = std::max(most, world.jointCoordinates(j)[0]);
+  }
+  const Vec3 rest(std::cos(0.4), 0, -std::sin(0.4));
+  std::printf(
+      "arm on its 0.4 rad limit: angle %.9f rad (most %.9f), %.2e m from the closed form, "
+      "speed %.2e m/s\n",
+      world.jointCoordinates(j)[0], most, (world.body(bob).position() - rest).norm(),
+      world.body(bob).linearVelocity().norm());
+  EXPECT_NEAR(world.jointCoordinates(j)[0], 0.4, 1e-6);
+  EXPECT_LT(most, 0.4 + 1e-3);
+  EXPECT_LT((world.body(bob).position() - rest).norm(), 1e-5);
+  EXPECT_LT(world.body(bob).linearVelocity().norm(), 1e-4);
+}
+
+TEST(Ball, ABobPushedPastItsLimitStopsThereWithoutMakingEnergy) {
+  // Hanging straight down, pushed sideways hard enough to swing to 0.6 rad free
+  // (v^2 = 2 g L (1 - cos 0.6)); limited to 0.3 rad.
+  WorldSettings s;
+  s.sleep.enabled = false;
+  World world(s);
+  BodyDef bob;
+  bob.name = "bob";
+  bob.mass = 1.0;
+  bob.inertia = Mat3::Identity() * 1e-3;
+  bob.position = Vec3(0, 0, -1);
+  bob.linear_velocity = Vec3(std::sqrt(2 * 9.81 * (1 - std::cos(0.6))), 0, 0);
+  const BodyId id = world.createBody(bob);
+  const JointId j = world.createJoint(BallDef{.name = "socket",
+                                              .body1 = id,
+                                              .anchor = Vec3::Zero(),
+                                              .angle = {.limits = JointLimits{0.0, 0.3}}});
+  // Energy above the bottom: 1.7 J at the push. The limit stops the swing dead (an inelastic
+  // bound), and from then on it swings between the limit's height and its mirror: what is left
+  // is m g L (1 - cos 0.3), the energy of a swing from the bound.
+  const auto swing = [&] { return world.energy().total() + 9.81; };
+  const double e0 = swing();
+  double most = 0.0, highest = e0;
+  for (int n = 0; n < 4000; ++n) {
+    world.step();
+    most = std::max(most, world.jointCoordinates(j)[0]);
+    highest = std::max(highest, swing());
+  }
+  const double left = 9.81 * (1 - std::cos(0.3));
+  std::printf(
+      "bob pushed to 0.6 rad, limited to 0.3: most %.6f rad; energy %.4f J -> %.4f J "
+      "(closed form %.4f), at most %.2e J above the start\n",
+      most, e0, swing(), left, highest - e0);
+  EXPECT_GT(most, 0.3 - 1e-3);
+  EXPECT_LT(most, 0.3 + 1e-3);
+  EXPECT_NEAR(swing(), left, 0.01 * left);  // the step's O(h) swing in the energy
+  EXPECT_LT(highest - e0, 1e-3 * e0);
+}
+
+TEST(Ball, ASpinAboutTheArmIsBoundedToo) {
+  // No gravity: the bob spins about its own arm at 2 rad/s with a 1 rad limit: it turns 1 rad
+  // and stops there (the whole relative rotation is bounded, twist included).
+  WorldSettings s;
+  s.gravity = Vec3::Zero();
+  s.sleep.enabled = false;
+  World world(s);
+  const BodyId bob = armBob(world, Vec3::Zero(), Vec3(2, 0, 0));
+  const JointId j = world.createJoint(BallDef{.name = "socket",
+                                              .body1 = bob,
+                                              .anchor = Vec3::Zero(),
+                                              .angle = {.limits = JointLimits{0.0, 1.0}}});
+  double most = 0.0;
+  for (int n = 0; n < 1000; ++n) {
+    world.step();
+    most = std::max(most, world.jointCoordinates(j)[0]);
+  }
+  std::printf("spin about the arm, limited to 1 rad: %.9f rad (most %.9f), spin %.2e rad/s\n",
+              world.jointCoordinates(j)[0], most, world.body(bob).angularVelocity().norm());
+  EXPECT_NEAR(world.jointCoordinates(j)[0], 1.0, 1e-6);
+  EXPECT_LT(most, 1.0 + 1e-6);
+  EXPECT_LT(world.body(bob).angularVelocity().norm(), 1e-6);
+  EXPECT_LT(world.body(bob).position().norm() - 1.0, 1e-9);  // still on its arm
+}
+
+TEST(Ball, ItsAngleTakesOnlyAnUpperLimit) {
+  World world;
+  const BodyId bob = armBob(world, Vec3::Zero(), Vec3::Zero());
+  EXPECT_THROW(world.createJoint(BallDef{.name = "a",
+                                         .body1 = bob,
+                                         .anchor = Vec3::Zero(),
+                                         .angle = {.limits = JointLimits{0.1, 0.5}}}),
+               std::invalid_argument);
+  EXPECT_THROW(world.createJoint(BallDef{
+                   .name = "b", .body1 = bob, .anchor = Vec3::Zero(), .angle = {.friction = 1.0}}),
+               std::invalid_argument);
+  EXPECT_THROW(world.createJoint(BallDef{.name = "c",
+                                         .body1 = bob,
+                                         .anchor = Vec3::Zero(),
+                                         .angle = {.limits = JointLimits{0.0, 4.0}}}),
+               std::invalid_argument);
+}
+
 TEST(Ball, SoftJointFromErpAndCfmIsASpringDamper) {
   const double m = 2.0, k = 5000.0, c = 20.0, g = 9.81, h = 1e-3;
   WorldSettings s;

@@ -78,7 +78,9 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
                     {true, test::randomVec(rng, 1.0), Vec3::Zero()},
                     {false, test::randomVec(rng, 1.0), test::randomVec(rng, 1.0)}};
       const int free = type.freeCoordinates(def);
-      for (int i = 0; i < free; ++i) def.coordinates[static_cast<std::size_t>(i)].friction = 1.0;
+      for (int i = 0; i < free; ++i)  // a ball joint's angle takes no friction: not smooth at 0
+        if (!type.coordinates[static_cast<std::size_t>(i)].limits_only)
+          def.coordinates[static_cast<std::size_t>(i)].friction = 1.0;
       std::unique_ptr<Joint> joint = makeJoint(type.name, def, b1, b2);
       // A generic joint constrains nothing of itself: every pose is one it allows, so it is
       // checked away from its pose of creation (angles up to a radian, ry off gimbal lock).
@@ -111,6 +113,7 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
                                      joint->coordinates(advance(b1, -eps), advance(b2, -eps))) /
                                     (2 * eps);
       for (int i = 0; i < free; ++i) {
+        if (type.coordinates[static_cast<std::size_t>(i)].limits_only) continue;  // test_ball_joint
         const auto row = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {
           return r.key == static_cast<std::uint64_t>(joints::coordinateSlot(i, 4));
         });

@@ -189,6 +189,32 @@ TEST_F(MjcfImport, ConnectEqualityPinsABodyLikeAHinge) {
   EXPECT_NEAR(measured / period - 1.0, 0.0, 1e-3);
 }
 
+TEST_F(MjcfImport, ABallJointsRangeBoundsItsRotation) {
+  // An arm on a ball joint with range 0 to 23 degrees, built level: gravity swings it down onto
+  // its bound, where it rests at 23 degrees below the horizontal.
+  const char* text = R"(<mujoco>
+    <worldbody>
+      <body name="arm" pos="0 0 1">
+        <joint name="shoulder" type="ball" range="0 23"/>
+        <geom type="sphere" pos="1 0 0" size="0.05" mass="1"/>
+      </body>
+    </worldbody>
+  </mujoco>)";
+  const Scene scene = importMjcf(write("ball.xml", text));
+  ASSERT_EQ(scene.joints.size(), 1u);
+  ASSERT_TRUE(scene.joints[0].def.coordinates[0].limits);
+  const double bound = 23 * kPi / 180;
+  EXPECT_DOUBLE_EQ(scene.joints[0].def.coordinates[0].limits->upper, bound);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  World world = buildWorld(scene);
+  for (int i = 0; i < 3000; ++i) world.step();
+  const Vec3 rest = Vec3(0, 0, 1) + Vec3(std::cos(bound), 0, -std::sin(bound));
+  const Vec3 at = world.body(BodyId{0}).position();
+  std::printf("ball range 23 deg: the arm rests %.2e m from its closed-form pose\n",
+              (at - rest).norm());
+  EXPECT_LT((at - rest).norm(), 1e-5);
+}
+
 TEST_F(MjcfImport, WhatLinxDoesNotUseIsNamedInOneWarning) {
   const char* text = R"(<mujoco>
     <compiler angle="radian" coordinate="local"/>

@@ -270,8 +270,11 @@ std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, con
 struct CoordinateInfo {
   std::string_view name;  ///< "angle", "position", "angle1", ... (scene files use it)
   bool linear = false;    ///< m (else rad)
-  /// Takes a CoordinateDef (limits, motor, spring, friction); a ball joint's angle does not.
+  /// Takes a CoordinateDef (limits, motor, spring, friction); a cone-twist joint's swing does not.
   bool free = true;
+  /// Takes limits only, and only an upper one: an angle >= 0 that is not smooth at zero (a ball
+  /// joint's rotation angle, which its limit keeps within a cone about its start).
+  bool limits_only = false;
 };
 
 /// What a registered joint type uses of a JointDef.

@@ -63,7 +63,8 @@ struct HingeDef {
   bool collide = false;
 };
 
-/// Rotation about `anchor` only.
+/// Rotation about `anchor` only; `angle`, the angle of the relative rotation, takes an upper
+/// limit (in [0, pi)), which keeps the rotation within a cone about its start.
 struct BallDef {
   static constexpr std::string_view kType = "ball";
   std::string name;
@@ -71,6 +72,7 @@ struct BallDef {
   BodyId body2 = kWorldBody;
   bool local = false;
   std::optional<Vec3> anchor = std::nullopt;  ///< required
+  CoordinateDef angle = {};                   ///< limits only
   std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
   std::optional<double> erp = std::nullopt, cfm = std::nullopt;
   bool collide = false;

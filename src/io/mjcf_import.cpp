@@ -506,8 +506,13 @@ class MjcfImporter {
     if (has_limits && type != "ball") {
       if (!((*range)[0] <= (*range)[1])) fail(where(e), "range: the lower end is above the upper");
       c.limits = JointLimits{scale((*range)[0]), scale((*range)[1])};
-    } else if (has_limits) {
-      unused("ball joint range");
+    }
+    // A ball joint's range bounds its rotation angle (only its second number counts); a bound of
+    // half a turn or more never binds.
+    std::optional<JointLimits> ball_limit;
+    if (has_limits && type == "ball" && scale((*range)[1]) < M_PI) {
+      if (!((*range)[1] >= 0)) fail(where(e), "range: a ball joint's upper end must be >= 0");
+      ball_limit = JointLimits{0.0, scale((*range)[1])};
     }
     c.reference = scale(number(e, "joint", cls, "ref", 0.0));
     const double stiffness = number(e, "joint", cls, "stiffness", 0.0);
@@ -519,7 +524,10 @@ class MjcfImporter {
       unused("ball joint stiffness and damping");
     const double friction = number(e, "joint", cls, "frictionloss", 0.0);
     if (friction < 0) fail(where(e), "frictionloss must be >= 0");
-    if (type != "ball") c.friction = friction;
+    if (type != "ball")
+      c.friction = friction;
+    else if (friction > 0)
+      unused("ball joint frictionloss");
     for (const char* a :
          {"solreflimit", "solimplimit", "solreffriction", "solimpfriction", "margin"})
       if (attribute(e, "joint", cls, a)) unused(fmt::format("joint {}", a));
@@ -528,7 +536,7 @@ class MjcfImporter {
     if (type != "ball") c.armature = armature;
     if (type == "ball") {
       if (armature > 0) unused("ball joint armature");
-      c = CoordinateDef{};
+      c = CoordinateDef{.limits = ball_limit};
     }
     return c;
   }

@@ -905,7 +905,11 @@ class Reader {
     } else {
       unused("axes");
     }
-    if (free == 1) {
+    if (free == 1 && fields->coordinates[0].limits_only) {  // a ball joint's angle
+      for (std::string_view key : kCoordinateFields)
+        if (key != "limits") unused(key);
+      if (auto v = get(n, "limits")) d.coordinates[0].limits = limits(*v);
+    } else if (free == 1) {
       d.coordinates[0] = coordinate(n);
     } else if (free > 1) {
       for (int i = 0; i < free; ++i) {

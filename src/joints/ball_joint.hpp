@@ -8,7 +8,7 @@ class BallJoint final : public Joint {
  public:
   BallJoint(const JointDef& def, const BodyState& b1, const BodyState& b2);
   std::string_view type() const override { return "ball"; }
-  int maxRows() const override { return 3; }
+  int maxRows() const override { return 4; }
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;

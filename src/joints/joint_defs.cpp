@@ -45,6 +45,7 @@ JointDef toJointDef(const HingeDef& d) {
 JointDef toJointDef(const BallDef& d) {
   JointDef j = common(d);
   j.anchor = d.anchor;
+  j.coordinates[0] = d.angle;
   return j;
 }
 

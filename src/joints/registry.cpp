@@ -47,7 +47,8 @@ constexpr CoordinateInfo kGearAngles[] = {{"angle1", false, false}, {"angle2", f
 constexpr CoordinateInfo kLength[] = {{"length", true, false}};  // reported, not driven
 constexpr CoordinateInfo kFreeLength[] = {{"length", true}};
 constexpr CoordinateInfo kRackPinion[] = {{"angle", false, false}, {"position", true, false}};
-constexpr CoordinateInfo kBallAngle[] = {{"angle", false, false}};  // reported, not driven
+// Limited only (an upper bound on the rotation angle), not driven.
+constexpr CoordinateInfo kBallAngle[] = {{"angle", false, true, true}};
 // A serial joint's are its axes' (JointDef::axes), angles or positions as each axis is.
 constexpr CoordinateInfo kSerial[] = {{"axes[0]"}, {"axes[1]"}, {"axes[2]"},
                                       {"axes[3]"}, {"axes[4]"}, {"axes[5]"}};
@@ -176,7 +177,24 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
             ? ""
             : fmt::format("{}.", t.coordinates[static_cast<std::size_t>(i)].name);
     validateCoordinate(c, prefix);
+    if (t.coordinates[static_cast<std::size_t>(i)].limits_only) limitsOnly(t, c, prefix);
   }
+}
+
+void limitsOnly(const JointTypeInfo& t, const CoordinateDef& c, const std::string& prefix) {
+  CoordinateDef rest = c;
+  rest.limits.reset();
+  if (!rest.empty() || rest.reference != 0.0 || rest.initial)
+    throw std::invalid_argument(
+        fmt::format("{}limits are all a {} joint's angle takes (no motor, spring, friction, lock, "
+                    "prescribed motion, armature, force, reference or initial value)",
+                    prefix, t.name));
+  if (c.limits && c.limits->lower > 0.0)
+    throw std::invalid_argument(fmt::format(
+        "{}limits.lower: a {} joint's angle is >= 0: give only its upper bound", prefix, t.name));
+  if (c.limits && !(c.limits->upper >= 0.0 && c.limits->upper < M_PI))
+    throw std::invalid_argument(fmt::format(
+        "{}limits.upper: a {} joint's angle bound must be in [0, pi) rad", prefix, t.name));
 }
 
 void validateAxes(const std::vector<SerialAxis>& axes) {

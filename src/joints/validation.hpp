@@ -19,6 +19,10 @@ void validateAxes(const std::vector<SerialAxis>& axes);
 /// Inverted limits, negative friction, and what validateMotor and validateSpring refuse; `prefix`
 /// starts the message ("angle1." or nothing).
 void validateCoordinate(const CoordinateDef& coordinate, const std::string& prefix);
+/// A coordinate that takes limits only (CoordinateInfo::limits_only): anything else on it, a lower
+/// bound above zero, an upper one outside [0, pi).
+void limitsOnly(const JointTypeInfo& type, const CoordinateDef& coordinate,
+                const std::string& prefix);
 /// A constant that is not finite, a table whose times do not increase or whose lengths differ;
 /// `field` names it in the message.
 void validateSignal(const Signal& signal, std::string_view field);
