@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <numbers>
 
 namespace linx {
@@ -104,16 +105,34 @@ namespace {
 // Per-joint erp and cfm turn a joint into a spring-damper of stiffness k and damping c. For the
 // impulse-level rows of linx the mapping is erp = h k / (h k + c), cfm = 1 / (h (h k + c)):
 // at rest the row then holds lambda = -h k phi, the impulse of the spring force -k phi.
-/// A 1 kg bob on a 1 m arm from a ball joint at the origin, built along +x.
-BodyId armBob(World& world, const Vec3& v, const Vec3& w) {
+/// A 1 kg bob 1 m from the origin, where a ball joint limited to `bound` holds it.
+BodyId limitedBob(World& world, const Vec3& position, const Vec3& v, const Vec3& w, double bound,
+                  JointId& socket) {
   BodyDef bob;
   bob.name = "bob";
   bob.mass = 1.0;
   bob.inertia = Mat3::Identity() * 1e-3;
-  bob.position = Vec3(1, 0, 0);
+  bob.position = position;
   bob.linear_velocity = v;
   bob.angular_velocity = w;
-  return world.createBody(bob);
+  const BodyId id = world.createBody(bob);
+  socket = world.createJoint(BallDef{.name = "socket",
+                                     .body1 = id,
+                                     .anchor = Vec3::Zero(),
+                                     .angle = {.limits = JointLimits{0.0, bound}}});
+  return id;
+}
+
+/// Steps the world `steps` times; the joint's largest angle on the way.
+double largestAngle(
+    World& world, JointId joint, int steps, const std::function<void()>& each = [] {}) {
+  double most = 0.0;
+  for (int n = 0; n < steps; ++n) {
+    world.step();
+    most = std::max(most, world.jointCoordinates(joint)[0]);
+    each();
+  }
+  return most;
 }
 
 TEST(Ball, AnArmComesToRestOnItsLimit) {
@@ -122,16 +141,9 @@ TEST(Ball, AnArmComesToRestOnItsLimit) {
   WorldSettings s;
   s.sleep.enabled = false;
   World world(s);
-  const BodyId bob = armBob(world, Vec3::Zero(), Vec3::Zero());
-  const JointId j = world.createJoint(BallDef{.name = "socket",
-                                              .body1 = bob,
-                                              .anchor = Vec3::Zero(),
-                                              .angle = {.limits = JointLimits{0.0, 0.4}}});
-  double most = 0.0;
-  for (int n = 0; n < 3000; ++n) {
-    world.step();
-    most = std::max(most, world.jointCoordinates(j)[0]);
-  }
+  JointId j;
+  const BodyId bob = limitedBob(world, Vec3(1, 0, 0), Vec3::Zero(), Vec3::Zero(), 0.4, j);
+  const double most = largestAngle(world, j, 3000);
   const Vec3 rest(std::cos(0.4), 0, -std::sin(0.4));
   std::printf(
       "arm on its 0.4 rad limit: angle %.9f rad (most %.9f), %.2e m from the closed form, "
@@ -150,28 +162,16 @@ TEST(Ball, ABobPushedPastItsLimitStopsThereWithoutMakingEnergy) {
   WorldSettings s;
   s.sleep.enabled = false;
   World world(s);
-  BodyDef bob;
-  bob.name = "bob";
-  bob.mass = 1.0;
-  bob.inertia = Mat3::Identity() * 1e-3;
-  bob.position = Vec3(0, 0, -1);
-  bob.linear_velocity = Vec3(std::sqrt(2 * 9.81 * (1 - std::cos(0.6))), 0, 0);
-  const BodyId id = world.createBody(bob);
-  const JointId j = world.createJoint(BallDef{.name = "socket",
-                                              .body1 = id,
-                                              .anchor = Vec3::Zero(),
-                                              .angle = {.limits = JointLimits{0.0, 0.3}}});
+  JointId j;
+  limitedBob(world, Vec3(0, 0, -1), Vec3(std::sqrt(2 * 9.81 * (1 - std::cos(0.6))), 0, 0),
+             Vec3::Zero(), 0.3, j);
   // Energy above the bottom: 1.7 J at the push. The limit stops the swing dead (an inelastic
   // bound), and from then on it swings between the limit's height and its mirror: what is left
   // is m g L (1 - cos 0.3), the energy of a swing from the bound.
   const auto swing = [&] { return world.energy().total() + 9.81; };
   const double e0 = swing();
-  double most = 0.0, highest = e0;
-  for (int n = 0; n < 4000; ++n) {
-    world.step();
-    most = std::max(most, world.jointCoordinates(j)[0]);
-    highest = std::max(highest, swing());
-  }
+  double highest = e0;
+  const double most = largestAngle(world, j, 4000, [&] { highest = std::max(highest, swing()); });
   const double left = 9.81 * (1 - std::cos(0.3));
   std::printf(
       "bob pushed to 0.6 rad, limited to 0.3: most %.6f rad; energy %.4f J -> %.4f J "
@@ -190,16 +190,9 @@ TEST(Ball, ASpinAboutTheArmIsBoundedToo) {
   s.gravity = Vec3::Zero();
   s.sleep.enabled = false;
   World world(s);
-  const BodyId bob = armBob(world, Vec3::Zero(), Vec3(2, 0, 0));
-  const JointId j = world.createJoint(BallDef{.name = "socket",
-                                              .body1 = bob,
-                                              .anchor = Vec3::Zero(),
-                                              .angle = {.limits = JointLimits{0.0, 1.0}}});
-  double most = 0.0;
-  for (int n = 0; n < 1000; ++n) {
-    world.step();
-    most = std::max(most, world.jointCoordinates(j)[0]);
-  }
+  JointId j;
+  const BodyId bob = limitedBob(world, Vec3(1, 0, 0), Vec3::Zero(), Vec3(2, 0, 0), 1.0, j);
+  const double most = largestAngle(world, j, 1000);
   std::printf("spin about the arm, limited to 1 rad: %.9f rad (most %.9f), spin %.2e rad/s\n",
               world.jointCoordinates(j)[0], most, world.body(bob).angularVelocity().norm());
   EXPECT_NEAR(world.jointCoordinates(j)[0], 1.0, 1e-6);
@@ -210,7 +203,8 @@ TEST(Ball, ASpinAboutTheArmIsBoundedToo) {
 
 TEST(Ball, ItsAngleTakesOnlyAnUpperLimit) {
   World world;
-  const BodyId bob = armBob(world, Vec3::Zero(), Vec3::Zero());
+  JointId j;
+  const BodyId bob = limitedBob(world, Vec3(1, 0, 0), Vec3::Zero(), Vec3::Zero(), 0.4, j);
   EXPECT_THROW(world.createJoint(BallDef{.name = "a",
                                          .body1 = bob,
                                          .anchor = Vec3::Zero(),
