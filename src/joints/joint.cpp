@@ -118,6 +118,12 @@ Mat12 Joint::stiffness(const JointContext& ctx, std::span<const Row> rows,
   for (Row& r : own) r.key &= 0xff;
   Mat12 k;
   for (int c = 0; c < 12; ++c) {
+    // A joint's rows see only where the bodies are relative to each other: moving both along the
+    // same vector changes nothing, so body 2's shift columns are body 1's, negated.
+    if (c >= 6 && c < 9) {
+      k.col(c) = -k.col(c - 6);
+      continue;
+    }
     JointContext plus = ctx, minus = ctx;
     BodyState& p = c < 6 ? plus.b1 : plus.b2;
     BodyState& m = c < 6 ? minus.b1 : minus.b2;

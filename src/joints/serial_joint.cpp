@@ -179,8 +179,23 @@ SerialJoint::Fit SerialJoint::fit(const BodyState& b1, const BodyState& b2) cons
 SerialJoint::Held SerialJoint::held(const Fit& fit, const BodyState& b1) const {
   const Held last = turned(held_, b1.pose.orientation);
   const Held a = last - fit.twists * (ratesOf(fit.twists) * last);
-  // The Gram matrix padded to 6 x 6 with the identity, which the inverse square root keeps apart.
+  return orthonormalized(a);
+}
+
+SerialJoint::Held SerialJoint::orthonormalized(const Held& a) {
+  // The nearest orthonormal basis, a (a^T a)^-1/2 (the polar factor). The basis turned and
+  // projected from the last step's is orthonormal to within the step's motion: Newton-Schulz,
+  // y <- y (3 - y^T y) / 2, converges to it quadratically, for a few small products.
   const auto m = a.cols();
+  Held y = a;
+  for (int k = 0; k < 8; ++k) {
+    const Gram e = y.transpose() * y - Gram::Identity(m, m);
+    const double off = e.cwiseAbs().maxCoeff();
+    if (off < 4e-15) return y;
+    if (!(off < 0.5)) break;  // too far for the iteration: the eigen decomposition below
+    y = y * (Gram::Identity(m, m) - 0.5 * e);
+  }
+  // Padded to 6 x 6 with the identity, which the inverse square root keeps apart.
   Eigen::Matrix<double, 6, 6> gram = Eigen::Matrix<double, 6, 6>::Identity();
   gram.topLeftCorner(m, m) = a.transpose() * a;
   const Eigen::Matrix<double, 6, 6> inverse_sqrt =

@@ -43,6 +43,8 @@ class SerialJoint final : public Joint {
   /// orthogonal to the axes' twists, orthonormal (the basis nearest the last one: it turns
   /// smoothly with the mechanism, so its rows keep their meaning from step to step).
   Held held(const Fit& fit, const BodyState& b1) const;
+  /// The orthonormal basis nearest `a`'s columns (independent): a (a^T a)^-1/2.
+  static Held orthonormalized(const Held& a);
 
   std::vector<Axis> axes_;
   Quat rest_rotation_ = Quat::Identity();  // body 1 in body 2's frame at creation
