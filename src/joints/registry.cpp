@@ -1,4 +1,4 @@
-// The joint types known by name. Adding a type: its own file, and one line in kInfo and kMake.
+// The joint types known by name. Adding a type: its own file, and one line in kTypes.
 #include "joints/ball_joint.hpp"
 #include "joints/cone_twist_joint.hpp"
 #include "joints/cylindrical_joint.hpp"
@@ -53,58 +53,76 @@ constexpr CoordinateInfo kBallAngle[] = {{"angle", false, true, true}};
 constexpr CoordinateInfo kSerial[] = {{"axes[0]"}, {"axes[1]"}, {"axes[2]"},
                                       {"axes[3]"}, {"axes[4]"}, {"axes[5]"}};
 
-constexpr std::array<JointTypeInfo, 15> kInfo{{
-    {.name = "fixed"},
-    {.name = "slider", .uses_axis = true, .coordinates = kPosition},
-    {.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
-    {.name = "ball", .needs_anchor = true, .coordinates = kBallAngle},
-    {.name = "universal",
-     .needs_anchor = true,
-     .uses_axis = true,
-     .uses_axis2 = true,
-     .coordinates = kTwoAngles},
-    {.name = "cylindrical", .needs_anchor = true, .uses_axis = true, .coordinates = kPositionAngle},
-    {.name = "hinge2",
-     .needs_anchor = true,
-     .uses_axis = true,
-     .uses_axis2 = true,
-     .coordinates = kWheel},
-    {.name = "distance", .uses_anchor2 = true, .uses_length = true, .coordinates = kLength},
-    {.name = "cone_twist",
-     .needs_anchor = true,
-     .uses_axis = true,
-     .uses_axis2 = true,
-     .uses_cone = true,
-     .coordinates = kTwistSwing},
-    {.name = "planar",
-     .needs_anchor = true,
-     .uses_axis = true,
-     .uses_axis2 = true,
-     .coordinates = kPlane},
-    {.name = "gear",
-     .uses_axis = true,
-     .uses_axis2 = true,
-     .uses_ratio = true,
-     .coordinates = kGearAngles},
-    {.name = "generic",
-     .needs_anchor = true,
-     .uses_axis = true,
-     .uses_axis2 = true,
-     .coordinates = kSixAxes},
-    {.name = "spring", .uses_anchor2 = true, .coordinates = kFreeLength},
-    {.name = "rack_and_pinion",
-     .uses_axis = true,
-     .uses_axis2 = true,
-     .uses_ratio = true,
-     .coordinates = kRackPinion},
-    {.name = "serial", .uses_axes = true, .coordinates = kSerial},
-}};
-constexpr std::array<Maker, kInfo.size()> kMake{
-    &make<joints::FixedJoint>,  &make<joints::SliderJoint>,     &make<joints::HingeJoint>,
-    &make<joints::BallJoint>,   &make<joints::UniversalJoint>,  &make<joints::CylindricalJoint>,
-    &make<joints::Hinge2Joint>, &make<joints::DistanceJoint>,   &make<joints::ConeTwistJoint>,
-    &make<joints::PlanarJoint>, &make<joints::GearJoint>,       &make<joints::GenericJoint>,
-    &make<joints::SpringJoint>, &make<joints::RackPinionJoint>, &make<joints::SerialJoint>};
+// One line per type: what it uses of a JointDef, and how it is made.
+struct Registered {
+  JointTypeInfo info;
+  Maker make;
+};
+constexpr auto kTypes = std::to_array<Registered>({
+    {{.name = "fixed"}, &make<joints::FixedJoint>},
+    {{.name = "slider", .uses_axis = true, .coordinates = kPosition}, &make<joints::SliderJoint>},
+    {{.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
+     &make<joints::HingeJoint>},
+    {{.name = "ball", .needs_anchor = true, .coordinates = kBallAngle}, &make<joints::BallJoint>},
+    {{.name = "universal",
+      .needs_anchor = true,
+      .uses_axis = true,
+      .uses_axis2 = true,
+      .coordinates = kTwoAngles},
+     &make<joints::UniversalJoint>},
+    {{.name = "cylindrical",
+      .needs_anchor = true,
+      .uses_axis = true,
+      .coordinates = kPositionAngle},
+     &make<joints::CylindricalJoint>},
+    {{.name = "hinge2",
+      .needs_anchor = true,
+      .uses_axis = true,
+      .uses_axis2 = true,
+      .coordinates = kWheel},
+     &make<joints::Hinge2Joint>},
+    {{.name = "distance", .uses_anchor2 = true, .uses_length = true, .coordinates = kLength},
+     &make<joints::DistanceJoint>},
+    {{.name = "cone_twist",
+      .needs_anchor = true,
+      .uses_axis = true,
+      .uses_axis2 = true,
+      .uses_cone = true,
+      .coordinates = kTwistSwing},
+     &make<joints::ConeTwistJoint>},
+    {{.name = "planar",
+      .needs_anchor = true,
+      .uses_axis = true,
+      .uses_axis2 = true,
+      .coordinates = kPlane},
+     &make<joints::PlanarJoint>},
+    {{.name = "gear",
+      .uses_axis = true,
+      .uses_axis2 = true,
+      .uses_ratio = true,
+      .coordinates = kGearAngles},
+     &make<joints::GearJoint>},
+    {{.name = "generic",
+      .needs_anchor = true,
+      .uses_axis = true,
+      .uses_axis2 = true,
+      .coordinates = kSixAxes},
+     &make<joints::GenericJoint>},
+    {{.name = "spring", .uses_anchor2 = true, .coordinates = kFreeLength},
+     &make<joints::SpringJoint>},
+    {{.name = "rack_and_pinion",
+      .uses_axis = true,
+      .uses_axis2 = true,
+      .uses_ratio = true,
+      .coordinates = kRackPinion},
+     &make<joints::RackPinionJoint>},
+    {{.name = "serial", .uses_axes = true, .coordinates = kSerial}, &make<joints::SerialJoint>},
+});
+constexpr std::array<JointTypeInfo, kTypes.size()> kInfo = [] {
+  std::array<JointTypeInfo, kTypes.size()> info{};
+  for (std::size_t i = 0; i < kTypes.size(); ++i) info[i] = kTypes[i].info;
+  return info;
+}();
 
 }  // namespace
 
@@ -325,7 +343,7 @@ std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, con
   if (!resolved.anchor) resolved.anchor = b1.pose.position;
   joints::validate(*t, resolved);
   std::unique_ptr<Joint> joint =
-      kMake[static_cast<std::size_t>(t - kInfo.data())](resolved, b1, b2);
+      kTypes[static_cast<std::size_t>(t - kInfo.data())].make(resolved, b1, b2);
   joint->anchor1_ = b1.pose.toLocal(*resolved.anchor);
   return joint;
 }
