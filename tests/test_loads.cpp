@@ -147,6 +147,26 @@ TEST(StandingLoads, ForceTableGivesItsImpulseAndAPointItsTorque) {
   EXPECT_NEAR(world.body(b).linearVelocity().x(), expected, 1e-12);
 }
 
+TEST(StandingLoads, ARemovedLoadActsNoMore) {
+  // 1 N on a 2 kg ball for 100 steps, then removed: the ball keeps the speed F t / m it had.
+  constexpr double m = 2.0, h = 1e-3;
+  World world(settings(false));
+  const BodyId b = world.createBody(ball("b", m, Vec3::Zero()));
+  const LoadId push = world.addLoad(LoadDef{.body = b, .force = Vec3(1, 0, 0)});
+  const LoadId twist = world.addLoad(LoadDef{.body = b, .torque = Vec3(0, 0, 0.001)});
+  for (int n = 0; n < 100; ++n) world.step();
+  world.removeLoad(push);
+  EXPECT_EQ(world.loadCount(), 1);
+  EXPECT_THROW(world.removeLoad(push), std::out_of_range);
+  for (int n = 0; n < 100; ++n) world.step();
+  EXPECT_NEAR(world.body(b).linearVelocity().x(), 1.0 * 100 * h / m, 1e-15);
+  // The other load still acts: 200 steps of torque.
+  EXPECT_NEAR(world.body(b).angularVelocity().z(),
+              0.001 * 200 * h / world.body(b).inertiaBody()(2, 2), 1e-12);
+  world.removeLoad(twist);
+  EXPECT_EQ(world.loadCount(), 0);
+}
+
 TEST(StandingLoads, TorqueSpinsABallAtTorqueOverInertia) {
   World world(settings(false));
   const BodyId b = world.createBody(ball("b", 1.0, Vec3::Zero()));

@@ -157,7 +157,10 @@ class World {
   /// given in time (their values at each step's start). Throws std::invalid_argument for a static
   /// or unknown body or a bad table.
   LoadId addLoad(const LoadDef& def);
-  int loadCount() const;
+  /// Removes a standing load between steps (removeBody removes its body's). Throws
+  /// std::out_of_range for an id that is not a load in effect.
+  void removeLoad(LoadId id);
+  int loadCount() const;  ///< the loads in effect
   /// Called at the start of every step, before the standing loads and the step itself, with the
   /// world at the step's start (time()): it applies forces and torques with Body::applyForce,
   /// applyForceAtPoint and applyTorque, or changes drives' targets (a controller). It must not

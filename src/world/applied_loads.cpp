@@ -42,6 +42,14 @@ void AppliedLoads::apply(std::span<Body> bodies, double time) const {
   }
 }
 
+void AppliedLoads::remove(LoadId id) {
+  if (id.index < 0 || id.index >= static_cast<int>(loads_.size()) ||
+      loads_[static_cast<std::size_t>(id.index)].body < 0)
+    throw std::out_of_range("no such load");
+  loads_[static_cast<std::size_t>(id.index)].body = -1;
+  --count_;
+}
+
 void AppliedLoads::removeBody(int body) {
   for (Load& load : loads_)
     if (load.body == body) {

@@ -21,6 +21,8 @@ class AppliedLoads {
   int count() const { return count_; }
   /// Removes the loads on body `body` (a removed body); the others keep their ids.
   void removeBody(int body);
+  /// Removes one load; throws std::out_of_range if it is not one in effect.
+  void remove(LoadId id);
 
  private:
   struct Load {

@@ -325,6 +325,10 @@ LoadId World::addLoad(const LoadDef& def) {
   return impl_->loads.add(def, bodies_);
 }
 
+void World::removeLoad(LoadId id) {
+  impl_->loads.remove(id);
+}
+
 int World::loadCount() const {
   return impl_->loads.count();
 }
