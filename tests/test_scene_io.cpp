@@ -681,8 +681,8 @@ TEST(SceneError, Joints) {
       {[](json& s) { s["joints"][0].erase("type"); }, "joints[0].type", "missing required field"},
       {[](json& s) { s["joints"][0]["type"] = "cardan"; }, "joints[0].type",
        "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
-       "hinge2, distance, cone_twist, planar, gear, generic, spring, rack_and_pinion or "
-       "serial)"},
+       "hinge2, distance, cone_twist, planar, gear, generic, spring, rack_and_pinion, serial or "
+       "mimic)"},
       {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
        "missing required field"},
       {[](json& s) {

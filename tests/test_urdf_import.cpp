@@ -239,8 +239,17 @@ TEST_F(UrdfImport, WhatLinxDoesNotUseIsNamedInOneWarning) {
   const Scene scene = importUrdf(write("r.urdf", text));
   ASSERT_EQ(scene.warnings.size(), 1u);
   const std::string& w = scene.warnings[0];
-  for (const char* named : {"<transmission> (x2)", "<gazebo>", "<mimic> on joint 'j2'", "<visual>"})
+  for (const char* named : {"<transmission> (x2)", "<gazebo>", "<visual>"})
     EXPECT_NE(w.find(named), std::string::npos) << named << " not in: " << w;
+  // <mimic> is used: a mimic joint after the joints it ties.
+  EXPECT_EQ(w.find("mimic"), std::string::npos) << w;
+  ASSERT_EQ(scene.joints.size(), 3u);
+  const SceneJoint& mimic = scene.joints[2];
+  EXPECT_EQ(mimic.type, "mimic");
+  EXPECT_EQ(mimic.def.leader, JointId{0});
+  EXPECT_EQ(mimic.def.follower, JointId{1});
+  EXPECT_EQ(mimic.def.ratio, 2.0);
+  EXPECT_EQ(mimic.def.offset, 0.0);
 }
 
 // Each bad file: the message names the file and the element and says what is wrong.
@@ -283,6 +292,14 @@ TEST_F(UrdfImport, BadFilesAreRefusedWithTheFileAndTheElement) {
       "<child link='b'/></joint><link name='b'><inertial><mass value='1'/>"
       "<inertia ixx='0' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link></robot>",
       "link 'b': inertia: must be finite, symmetric and positive definite");
+  const std::string two_joints =
+      "<robot name='r'><link name='a'/><joint name='j' type='continuous'><parent link='a'/>"
+      "<child link='b'/></joint>" +
+      link_b + "<joint name='k' type='fixed'><parent link='a'/><child link='c'/>";
+  refused(two_joints + "<mimic joint='nope'/></joint><link name='c'/></robot>",
+          "joint 'k' <mimic>: no joint 'nope' to follow");
+  refused(two_joints + "<mimic joint='j'/></joint><link name='c'/></robot>",
+          "joint 'k' <mimic>: joint 'k' is not a revolute, continuous or prismatic joint");
   EXPECT_THROW(importUrdf(dir_ / "missing.urdf"), SceneError);
 }
 

@@ -20,6 +20,13 @@
 
 namespace linx {
 
+/// A joint of a World: its slot and the slot's generation (as BodyId).
+struct JointId {
+  int index = -1;
+  std::uint32_t generation = 0;
+  friend bool operator==(JointId, JointId) = default;
+};
+
 /// Unilateral limits on a joint coordinate (m for sliders, rad for hinges).
 struct JointLimits {
   double lower = -kInfinity;
@@ -146,6 +153,13 @@ struct JointDef {
   /// body 1 moves on axes[k-1], which moves on axes[k-2], ..., on axes[0], fixed in body 2, as a
   /// body with several joints in MJCF. Coordinate i is axes[i]'s angle or position.
   std::vector<SerialAxis> axes = {};
+  /// Mimic joint: the two joints whose coordinates it ties (URDF's <mimic>), each's first free
+  /// coordinate (a hinge's angle, a slider's position, with its reference):
+  ///   follower = ratio leader + offset.
+  /// Its bodies are the follower's (World::createJoint sets body1 and body2).
+  std::optional<JointId> leader = std::nullopt;
+  std::optional<JointId> follower = std::nullopt;
+  double offset = 0.0;  ///< (m or rad) mimic joint: see `leader`
   /// Limits, drives, springs and friction of the type's free coordinates, in the order of
   /// JointTypeInfo::coordinates (a hinge's angle is coordinates[0]); the rest stay empty.
   std::array<CoordinateDef, kMaxCoordinates> coordinates = {};
@@ -194,6 +208,8 @@ struct JointContext {
   /// them: armature keeps the rotor's rate from there (its poses are b1's and b2's). Assembly
   /// sets them; none: the same as b1's and b2's.
   std::optional<std::pair<BodyState, BodyState>> start = std::nullopt;
+  /// The states of Joint::coupledBodies() (a mimic joint's leader's two bodies).
+  std::array<BodyState, 2> more = {};
 };
 
 /// A joint's coordinate values (at most kMaxCoordinates, no allocation).
@@ -220,8 +236,19 @@ class Joint {
   /// Called by the world after every (sub)step with the new state, for joints that follow history
   /// (a hinge counts its turns). Motion between two calls must stay below half a turn.
   virtual void track(const BodyState& /*b1*/, const BodyState& /*b2*/) {}
-  /// Largest position error of the joint's equality rows, and of a violated limit (m or rad).
-  virtual double error(const BodyState& b1, const BodyState& b2) const;
+  /// Largest position error of the joint's equality rows, and of a violated limit (m or rad);
+  /// `more`: the states of coupledBodies().
+  double error(const BodyState& b1, const BodyState& b2,
+               const std::array<BodyState, 2>& more = {}) const;
+  /// Bodies beyond body1 and body2 that the joint's rows act on as well (a mimic joint: its
+  /// leader's two; the world for none), whose states come in JointContext::more.
+  virtual std::array<BodyId, 2> coupledBodies() const { return {kWorldBody, kWorldBody}; }
+  /// Fills `row` with free coordinate `index`'s J (the coordinate's rate is J u) and phi (its
+  /// value from the joint's zero, without its reference), as the coordinate's limits and drives
+  /// take them; false for a type without such a row. A mimic joint ties joints through it.
+  virtual bool coordinateRow(const JointContext& /*ctx*/, int /*index*/, Row& /*row*/) const {
+    return false;
+  }
   /// The turning of the joint's forces, K = d(J^T lambda)/dq: how the generalized force of the
   /// impulses `lambda` on the rows fill() wrote at ctx (`rows`) changes as the bodies move.
   /// q = (body1 position, rotation, body2 position, rotation), rotations as small rotation vectors
@@ -254,18 +281,21 @@ class Joint {
 
  private:
   friend std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def,
-                                          const BodyState& b1, const BodyState& b2);
+                                          const BodyState& b1, const BodyState& b2,
+                                          std::array<const Joint*, 2> coupled);
   JointDef def_;
   Vec3 anchor1_ = Vec3::Zero();
   bool enabled_ = true;
 };
 
-/// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball", "universal") from its
-/// definition
-/// and the two bodies' states at creation. Throws std::invalid_argument for an unknown type or a
-/// definition the type cannot accept (a zero axis, inverted limits, a negative motor force).
+/// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball", "universal", ...)
+/// from its definition and the two bodies' states at creation; `coupled`: the joints a type that
+/// couples joints ties (a mimic joint's leader and follower, JointTypeInfo::couples_joints).
+/// Throws std::invalid_argument for an unknown type or a definition the type cannot accept (a
+/// zero axis, inverted limits, a negative motor force).
 std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
-                                 const BodyState& b2);
+                                 const BodyState& b2,
+                                 std::array<const Joint*, 2> coupled = {nullptr, nullptr});
 /// One coordinate a joint type reports.
 struct CoordinateInfo {
   std::string_view name;  ///< "angle", "position", "angle1", ... (scene files use it)
@@ -292,6 +322,9 @@ struct JointTypeInfo {
   bool uses_ratio = false;
   /// JointDef::axes (a serial joint): its free coordinates are one per axis, not `coordinates`'.
   bool uses_axes = false;
+  /// JointDef::leader, follower and offset (a mimic joint): it ties two joints' coordinates, and
+  /// its bodies are the follower's.
+  bool couples_joints = false;
   /// The coordinates Joint::coordinates reports, in order.
   std::span<const CoordinateInfo> coordinates = {};
   /// How many of them are free (take limits, drives, springs, friction): the first ones.

@@ -1,7 +1,8 @@
 // One velocity-level constraint row: the unit every joint, limit, motor and contact is made of.
 //
-// A row couples at most two bodies a and b (DESIGN.md section 3):
-//   J = [ Ja (1x6) | Jb (1x6) ],  each block (linear part, angular part), world frame.
+// A row couples two bodies a and b (DESIGN.md section 3):
+//   J = [ Ja (1x6) | Jb (1x6) ],  each block (linear part, angular part), world frame;
+// a coupling of two joints (a mimic joint) adds the other joint's bodies c and d: [ Jc | Jd ].
 // It holds J u+ = xi with the impulse lambda bounded by lo <= lambda <= hi, where
 //   xi = speed - (erp / h) phi
 // phi is the row's position error C (the constraint function whose time derivative is J u) and
@@ -41,6 +42,21 @@ struct Row {
   /// always means the same constraint), assembly adds the owner's identity.
   std::uint64_t key = 0;
   int body_a = -1, body_b = -1;  ///< solver body indices (set by assembly), -1 for none
+  /// A coupling's further bodies (Joint::coupledBodies): blocks and solver indices, -1 for none.
+  /// Assembly folds a block whose body is a or b into that body's block, so the four bodies of a
+  /// row are distinct. Contacts and the joints of two bodies leave them unused.
+  Vec6 Jc = Vec6::Zero(), Jd = Vec6::Zero();
+  int body_c = -1, body_d = -1;
+
+  bool coupled() const { return body_c >= 0 || body_d >= 0; }
+  /// f(body, J block) for each body the row acts on (body -1: none, the world or a static body).
+  template <class F>
+  void forEachBlock(F&& f) const {
+    f(body_a, Ja);
+    f(body_b, Jb);
+    if (body_c >= 0) f(body_c, Jc);
+    if (body_d >= 0) f(body_d, Jd);
+  }
 
   /// The target of J u+ for a step of length h.
   double target(double h) const { return speed - (erp / h) * phi; }

@@ -92,13 +92,6 @@ struct WorldSettings {
   int threads = 1;  ///< in [0, kMaxThreads]
 };
 
-/// A joint of a World: its slot and the slot's generation (as BodyId).
-struct JointId {
-  int index = -1;
-  std::uint32_t generation = 0;
-  friend bool operator==(JointId, JointId) = default;
-};
-
 /// A joint that broke: what it applied over the step it broke in was more than its break_force or
 /// break_torque (JointDef). From then on it is disabled (Joint::enabled).
 struct JointBreak {

@@ -234,7 +234,7 @@ class Reader {
       std::map<std::string, std::size_t> joint_index;
       for (std::size_t i = 0; i < joints->value.size(); ++i) {
         const Node item{joints->value[i], itemPath(joints->path, i)};
-        SceneJoint joint = this->joint(item, scene.bodies, body_index, centres);
+        SceneJoint joint = this->joint(item, scene.bodies, body_index, centres, scene.joints);
         const auto [it, inserted] = joint_index.emplace(joint.def.name, i);
         if (!inserted) {
           fail(childPath(item.path, "name"),
@@ -785,7 +785,7 @@ class Reader {
 
   SceneJoint joint(const Node& n, const std::vector<BodyDef>& bodies,
                    const std::map<std::string, std::size_t>& body_index,
-                   std::span<const Vec3> centres) const {
+                   std::span<const Vec3> centres, std::span<const SceneJoint> earlier) const {
     expectObject(n);
     SceneJoint joint;
     JointDef& d = joint.def;
@@ -813,9 +813,10 @@ class Reader {
     // A serial joint takes them in each of its axes.
     const int free = fields->uses_axes ? 0 : fields->freeCoordinates();
     std::vector<std::string_view> allowed{
-        "name",  "type", "body1", "body2",       "anchor",       "axis",    "axis1",
-        "axis2", "erp",  "cfm",   "collide",     "anchor1",      "anchor2", "length",
-        "rope",  "cone", "ratio", "break_force", "break_torque", "axes",    "frame"};
+        "name",         "type",   "body1", "body2",  "anchor",   "axis",
+        "axis1",        "axis2",  "erp",   "cfm",    "collide",  "anchor1",
+        "anchor2",      "length", "rope",  "cone",   "ratio",    "break_force",
+        "break_torque", "axes",   "frame", "leader", "follower", "offset"};
     allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
@@ -826,6 +827,16 @@ class Reader {
       }
     };
 
+    if (fields->couples_joints) {
+      coupledJoints(n, joint.type, earlier, d);
+      if (auto v = get(n, "ratio")) d.ratio = number(*v);  // 1 by default, as URDF's multiplier
+      for (std::string_view key : allowed)
+        if (key != "name" && key != "type" && key != "leader" && key != "follower" &&
+            key != "ratio" && key != "offset")
+          unused(key);
+      return joint;
+    }
+    for (std::string_view key : {"leader", "follower", "offset"}) unused(key);
     const Node body1 = require(n, "body1");
     d.body1 = bodyRef(body1, body_index, true);
     if (d.body1.isWorld()) {
@@ -934,6 +945,25 @@ class Reader {
     if (auto v = get(n, "break_torque")) d.break_torque = positive(*v);
     if (d.local) inCentreFrames(d, centres);
     return joint;
+  }
+
+  // A mimic joint's leader and follower, by name among the joints before it (the world makes
+  // joints in file order, and a joint that ties two needs them made), and its offset.
+  void coupledJoints(const Node& n, const std::string& type, std::span<const SceneJoint> earlier,
+                     JointDef& d) const {
+    const auto find = [&](const char* field) {
+      const Node ref = require(n, field);
+      const std::string name = string(ref);
+      for (std::size_t i = 0; i < earlier.size(); ++i)
+        if (earlier[i].def.name == name) return JointId{static_cast<int>(i)};
+      fail(ref.path, fmt::format("no joint '{}' before this {} joint (the joints it ties come "
+                                 "first in \"joints\")",
+                                 name, type));
+    };
+    d.leader = find("leader");
+    d.follower = find("follower");
+    if (*d.leader == *d.follower) fail(childPath(n.path, "follower"), "the same joint as leader");
+    if (auto v = get(n, "offset")) d.offset = number(*v);
   }
 
   // A joint's points in local frames, from the frames the file states its bodies in to the bodies'

@@ -414,6 +414,13 @@ class Writer {
     return def.position;
   }
 
+  // A joint a mimic joint ties: one before it in the scene (JointId indexes Scene::joints).
+  std::string jointName(const std::optional<JointId>& id, const std::string& path) const {
+    if (!id || id->index < 0 || static_cast<std::size_t>(id->index) >= scene_.joints.size())
+      fail(path, "not a joint of the scene");
+    return scene_.joints[static_cast<std::size_t>(id->index)].def.name;
+  }
+
   json joint(const SceneJoint& joint, const std::string& path) const {
     const JointTypeInfo* info = findJointType(joint.type);
     if (!info) fail(childPath(path, "type"), fmt::format("unknown joint type '{}'", joint.type));
@@ -421,6 +428,13 @@ class Writer {
     json j;
     j["name"] = d.name;
     j["type"] = joint.type;
+    if (info->couples_joints) {  // between the follower's bodies
+      j["leader"] = jointName(d.leader, childPath(path, "leader"));
+      j["follower"] = jointName(d.follower, childPath(path, "follower"));
+      j["ratio"] = number(d.ratio, childPath(path, "ratio"));
+      putIfChanged(j, "offset", d.offset, 0.0, path);
+      return j;
+    }
     j["body1"] = bodyName(d.body1, childPath(path, "body1"));
     if (!d.body2.isWorld()) j["body2"] = bodyName(d.body2, childPath(path, "body2"));
     if (d.local) j["frame"] = "local";

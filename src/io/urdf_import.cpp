@@ -107,10 +107,8 @@ XmlSurvey survey(const std::string& text, const std::string& file) {
         if (child == "limit") {
           if (c->Attribute("effort") || c->Attribute("velocity"))
             s.unsupported.add("joint limit effort and velocity (no actuators)");
-        } else if (child == "mimic") {
-          s.unsupported.add(fmt::format("<mimic> on joint '{}'", name ? name : ""));
         } else if (child != "origin" && child != "parent" && child != "child" && child != "axis" &&
-                   child != "dynamics") {
+                   child != "dynamics" && child != "mimic") {
           s.unsupported.add("<" + child + "> in a joint");
         }
       }
@@ -175,6 +173,10 @@ class UrdfImporter {
     for (const std::string& name : xml.links) attachShapes(name, scene);
     for (const std::string& name : xml.joints)
       if (auto joint = makeJoint(*model_->getJoint(name), scene)) scene.joints.push_back(*joint);
+    // Mimic joints after the joints they tie (a scene names them before).
+    for (const std::string& name : xml.joints)
+      if (const urdf::Joint& j = *model_->getJoint(name); j.mimic)
+        scene.joints.push_back(mimic(j, scene));
     io::completeImported(scene, "link");
     scene.warnings = xml.unsupported.warnings(file_);
     for (const std::string& w : meshes_made_convex_) scene.warnings.push_back(w);
@@ -338,6 +340,36 @@ class UrdfImporter {
       }
     }
     return s;
+  }
+
+  // <mimic joint="leader" multiplier="r" offset="c">: this joint's value is r times the leader's
+  // plus c (both in URDF's sense, which the hinges and sliders made here keep).
+  SceneJoint mimic(const urdf::Joint& j, const Scene& scene) const {
+    const std::string where = fmt::format("joint '{}' <mimic>", j.name);
+    const auto index = [&](const std::string& name) -> std::optional<JointId> {
+      for (std::size_t i = 0; i < scene.joints.size(); ++i)
+        if (scene.joints[i].def.name == name) return JointId{static_cast<int>(i)};
+      return std::nullopt;
+    };
+    const std::string& leader = j.mimic->joint_name;
+    SceneJoint out;
+    out.type = "mimic";
+    out.def.name = j.name + ".mimic";
+    out.def.follower = index(j.name);
+    out.def.leader = index(leader);
+    if (!model_->getJoint(leader)) fail(where, fmt::format("no joint '{}' to follow", leader));
+    for (const auto& [name, id] :
+         {std::pair{j.name, out.def.follower}, std::pair{leader, out.def.leader}})
+      if (!id || (scene.joints[static_cast<std::size_t>(id->index)].type != "hinge" &&
+                  scene.joints[static_cast<std::size_t>(id->index)].type != "slider"))
+        fail(where, fmt::format("joint '{}' is not a revolute, continuous or prismatic joint of a "
+                                "moving link: a mimic ties two of those",
+                                name));
+    out.def.ratio = j.mimic->multiplier;
+    out.def.offset = j.mimic->offset;
+    if (!std::isfinite(out.def.ratio) || out.def.ratio == 0.0 || !std::isfinite(out.def.offset))
+      fail(where, "multiplier must be finite and non-zero, offset finite");
+    return out;
   }
 
   std::optional<SceneJoint> makeJoint(const urdf::Joint& j, const Scene& scene) const {

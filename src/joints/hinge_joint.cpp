@@ -23,6 +23,12 @@ JointCoordinates HingeJoint::coordinates(const BodyState& b1, const BodyState& b
   return JointCoordinates::Constant(1, angle(b1, b2));
 }
 
+bool HingeJoint::coordinateRow(const JointContext& ctx, int index, Row& row) const {
+  if (index != 0) return false;
+  angularRow(ctx.b2.pose.orientation * frames_.axis2, angle(ctx.b1, ctx.b2), row);
+  return true;
+}
+
 void HingeJoint::track(const BodyState& b1, const BodyState& b2) {
   last_angle_ = angle(b1, b2);
 }

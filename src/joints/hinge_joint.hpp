@@ -13,6 +13,7 @@ class HingeJoint final : public Joint {
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
+  bool coordinateRow(const JointContext& ctx, int index, Row& row) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
  private:

@@ -53,14 +53,18 @@ void Joint::setFriction(double friction, int coordinate) {
   def_ = edited(*this, coordinate, [&](CoordinateDef& c) { c.friction = friction; });
 }
 
-double Joint::error(const BodyState& b1, const BodyState& b2) const {
+double Joint::error(const BodyState& b1, const BodyState& b2,
+                    const std::array<BodyState, 2>& more) const {
   // The rows' own phi is the error: equality rows count fully, limits only when overshot. Zero
   // velocities keep not-yet-reached limits out; h only scales the (unused) bias. A prescribed
   // coordinate's target is taken in time, which this does not know: its row does not count.
-  const BodyState s1{b1.pose, Vec3::Zero(), Vec3::Zero()};
-  const BodyState s2{b2.pose, Vec3::Zero(), Vec3::Zero()};
+  const auto still = [](const BodyState& b) {
+    return BodyState{b.pose, Vec3::Zero(), Vec3::Zero()};
+  };
+  JointContext ctx{still(b1), still(b2), 1.0, 0.0, 0.0};
+  ctx.more = {still(more[0]), still(more[1])};
   std::vector<Row> rows(static_cast<std::size_t>(maxRows()));
-  const int n = fill(JointContext{s1, s2, 1.0, 0.0, 0.0}, rows);
+  const int n = fill(ctx, rows);
   double err = 0.0;
   for (int k = 0; k < n; ++k) {
     const Row& r = rows[static_cast<std::size_t>(k)];

@@ -8,6 +8,7 @@
 #include "joints/generic_joint.hpp"
 #include "joints/hinge2_joint.hpp"
 #include "joints/hinge_joint.hpp"
+#include "joints/mimic_joint.hpp"
 #include "joints/planar_joint.hpp"
 #include "joints/rack_pinion_joint.hpp"
 #include "joints/serial_joint.hpp"
@@ -27,11 +28,20 @@ namespace linx {
 
 namespace {
 
-using Maker = std::unique_ptr<Joint> (*)(const JointDef&, const BodyState&, const BodyState&);
+using Coupled = std::array<const Joint*, 2>;
+using Maker = std::unique_ptr<Joint> (*)(const JointDef&, const BodyState&, const BodyState&,
+                                         Coupled);
 
 template <class T>
-std::unique_ptr<Joint> make(const JointDef& def, const BodyState& b1, const BodyState& b2) {
+std::unique_ptr<Joint> make(const JointDef& def, const BodyState& b1, const BodyState& b2,
+                            Coupled) {
   return std::make_unique<T>(def, b1, b2);
+}
+// A type that ties joints gets them (World::createJoint checks they are there).
+template <class T>
+std::unique_ptr<Joint> makeCoupling(const JointDef& def, const BodyState&, const BodyState&,
+                                    Coupled joints) {
+  return std::make_unique<T>(def, *joints[0], *joints[1]);
 }
 
 constexpr CoordinateInfo kPosition[] = {{"position", true}};
@@ -117,6 +127,8 @@ constexpr auto kTypes = std::to_array<Registered>({
       .coordinates = kRackPinion},
      &make<joints::RackPinionJoint>},
     {{.name = "serial", .uses_axes = true, .coordinates = kSerial}, &make<joints::SerialJoint>},
+    {{.name = "mimic", .uses_ratio = true, .couples_joints = true},
+     &makeCoupling<joints::MimicJoint>},
 });
 constexpr std::array<JointTypeInfo, kTypes.size()> kInfo = [] {
   std::array<JointTypeInfo, kTypes.size()> info{};
@@ -158,6 +170,8 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
   }
   if (t.uses_ratio && !(std::isfinite(def.ratio) && def.ratio != 0.0))
     throw std::invalid_argument("ratio: must be finite and non-zero");
+  if (t.couples_joints && !std::isfinite(def.offset))
+    throw std::invalid_argument("offset: must be finite");
   if (def.cone) {
     if (!t.uses_cone)
       throw std::invalid_argument(fmt::format("cone: not used by a {} joint", t.name));
@@ -333,9 +347,12 @@ bool isJointType(std::string_view type) {
 }
 
 std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
-                                 const BodyState& b2) {
+                                 const BodyState& b2, std::array<const Joint*, 2> coupled) {
   const JointTypeInfo* t = findJointType(type);
   if (!t) throw std::invalid_argument(fmt::format("unknown joint type '{}'", type));
+  if (t->couples_joints && !(coupled[0] && coupled[1]))
+    throw std::invalid_argument(
+        fmt::format("a {} joint ties two joints: its leader and follower are needed", t->name));
   if (t->needs_anchor && !def.anchor)
     throw std::invalid_argument(
         fmt::format("anchor: a {} joint needs one (the point it turns about)", t->name));
@@ -343,7 +360,7 @@ std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, con
   if (!resolved.anchor) resolved.anchor = b1.pose.position;
   joints::validate(*t, resolved);
   std::unique_ptr<Joint> joint =
-      kTypes[static_cast<std::size_t>(t - kInfo.data())].make(resolved, b1, b2);
+      kTypes[static_cast<std::size_t>(t - kInfo.data())].make(resolved, b1, b2, coupled);
   joint->anchor1_ = b1.pose.toLocal(*resolved.anchor);
   return joint;
 }

@@ -19,6 +19,12 @@ JointCoordinates SliderJoint::coordinates(const BodyState& b1, const BodyState& 
   return JointCoordinates::Constant(1, (b2.pose.orientation * frames_.axis2).dot(arms.d));
 }
 
+bool SliderJoint::coordinateRow(const JointContext& ctx, int index, Row& row) const {
+  if (index != 0) return false;
+  linearRow(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b2.pose.orientation * frames_.axis2, row);
+  return true;
+}
+
 int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   lockRows(frames_, ctx.b1, ctx.b2, rows.subspan<0, 3>());
   const Arms arms = Arms::of(frames_, ctx.b1, ctx.b2);

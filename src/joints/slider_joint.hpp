@@ -11,6 +11,7 @@ class SliderJoint final : public Joint {
   int maxRows() const override { return 5 + kCoordinateRows; }  // + the position's rows
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
+  bool coordinateRow(const JointContext& ctx, int index, Row& row) const override;
 
  private:
   JointFrames frames_;

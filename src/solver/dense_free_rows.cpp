@@ -16,10 +16,14 @@ void DenseFreeRows::assemble(const Problem& p, const RowSystem& sys) {
     for (std::size_t l = k; l < n; ++l) {
       const Row& rl = p.rows[l];
       double v = k == l ? rk.cfm : 0.0;
-      if (rk.body_a >= 0 && rk.body_a == rl.body_a) v += rk.Ja.dot(sys.Wa[l]);
-      if (rk.body_a >= 0 && rk.body_a == rl.body_b) v += rk.Ja.dot(sys.Wb[l]);
-      if (rk.body_b >= 0 && rk.body_b == rl.body_a) v += rk.Jb.dot(sys.Wa[l]);
-      if (rk.body_b >= 0 && rk.body_b == rl.body_b) v += rk.Jb.dot(sys.Wb[l]);
+      if (rk.coupled() || rl.coupled()) {
+        rk.forEachBlock([&](int body, const Vec6& j) { v += j.dot(sys.blockOn(rl, l, body)); });
+      } else {
+        if (rk.body_a >= 0 && rk.body_a == rl.body_a) v += rk.Ja.dot(sys.Wa[l]);
+        if (rk.body_a >= 0 && rk.body_a == rl.body_b) v += rk.Ja.dot(sys.Wb[l]);
+        if (rk.body_b >= 0 && rk.body_b == rl.body_a) v += rk.Jb.dot(sys.Wa[l]);
+        if (rk.body_b >= 0 && rk.body_b == rl.body_b) v += rk.Jb.dot(sys.Wb[l]);
+      }
       a_(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(l)) =
           a_(static_cast<Eigen::Index>(l), static_cast<Eigen::Index>(k)) = v;
     }

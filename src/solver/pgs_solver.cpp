@@ -27,8 +27,9 @@ constexpr std::ptrdiff_t kParallelWarmRows = 1024;
 void PgsSolver::findBlocks(const Problem& p) {
   const std::size_t n = p.rows.size();
   block_start_.resize(n);
+  // (A coupled row stands alone: the blocks' matrices see two bodies.)
   const auto equality = [](const Row& r) {
-    return r.kind == RowKind::Bilateral && std::isinf(r.lo) && std::isinf(r.hi);
+    return r.kind == RowKind::Bilateral && std::isinf(r.lo) && std::isinf(r.hi) && !r.coupled();
   };
   int run = 0;  // rows in the current block
   for (std::size_t k = 0; k < n; ++k) {
@@ -71,7 +72,8 @@ void PgsSolver::planSweep(Problem& p) {
         ++count[static_cast<std::size_t>(colour_of_[k])];
         continue;
       }
-      const int colour = colouring_.take(r.body_a, r.body_b);
+      // A coupled row touches more than two bodies: the serial rest takes it.
+      const int colour = r.coupled() ? kColours : colouring_.take(r.body_a, r.body_b);
       colour_of_[k] = colour;
       ++count[static_cast<std::size_t>(colour)];
     }
@@ -160,6 +162,30 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     position_[static_cast<std::size_t>(order_[pos])] = static_cast<int>(pos);
   rows_.resize(n);
   lambda_.resize(n);
+  // The coupled rows' further ends, numbered in sweep order (before the parallel gather).
+  coupled_.clear();
+  std::vector<int>& coupled_of = coupled_of_;
+  coupled_of.assign(n, -1);
+  for (std::size_t pos = 0; pos < n; ++pos) {
+    const Row& r = p.rows[static_cast<std::size_t>(order_[pos])];
+    if (!r.coupled()) continue;
+    coupled_of[pos] = static_cast<int>(coupled_.size());
+    CoupledEnds e{};
+    const int bodies[2] = {r.body_c, r.body_d};
+    const Vec6* blocks[2] = {&r.Jc, &r.Jd};
+    for (int i = 0; i < 2; ++i) {
+      e.j_v[i] = blocks[i]->head<3>();
+      e.j_w[i] = blocks[i]->tail<3>();
+      e.body[i] = bodies[i] >= 0 ? bodies[i] : none;
+      e.w_v[i].setZero();
+      e.w_w[i].setZero();
+      if (bodies[i] < 0) continue;
+      const SolverBody& b = p.bodies[static_cast<std::size_t>(bodies[i])];
+      e.w_v[i] = b.inv_mass * e.j_v[i];
+      e.w_w[i] = b.inv_inertia * e.j_w[i];
+    }
+    coupled_.push_back(e);
+  }
   const auto signed_n = static_cast<std::ptrdiff_t>(n);
   parallel::forEach(signed_n, threads, kColourRows, [&](std::ptrdiff_t ip) {
     const auto pos = static_cast<std::size_t>(ip);
@@ -190,6 +216,11 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
       c.wb_w = b.inv_inertia * c.jb_w;
       diag += c.jb_v.dot(c.wb_v) + c.jb_w.dot(c.wb_w);
     }
+    c.coupled = coupled_of[pos];
+    if (c.coupled >= 0) {
+      const CoupledEnds& e = coupled_[static_cast<std::size_t>(c.coupled)];
+      for (int i = 0; i < 2; ++i) diag += e.j_v[i].dot(e.w_v[i]) + e.j_w[i].dot(e.w_w[i]);
+    }
     c.inv_diag = diag > 0.0 ? 1.0 / diag : 0.0;  // 0: a row that touches no movable body
     c.diag = diag > 0.0 ? diag / settings.sor : 0.0;
     c.target = r.target(p.h);
@@ -216,8 +247,15 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   const auto slack = [&](const CompactRow& c, double l) {
     const Velocity& a = velocities_[static_cast<std::size_t>(c.a)];
     const Velocity& b = velocities_[static_cast<std::size_t>(c.b)];
-    return c.ja_v.dot(a.v) + c.ja_w.dot(a.w) + c.jb_v.dot(b.v) + c.jb_w.dot(b.w) - c.target +
-           c.cfm * l;
+    double rate = c.ja_v.dot(a.v) + c.ja_w.dot(a.w) + c.jb_v.dot(b.v) + c.jb_w.dot(b.w);
+    if (c.coupled >= 0) [[unlikely]] {
+      const CoupledEnds& e = coupled_[static_cast<std::size_t>(c.coupled)];
+      for (int i = 0; i < 2; ++i) {
+        const Velocity& u = velocities_[static_cast<std::size_t>(e.body[i])];
+        rate += e.j_v[i].dot(u.v) + e.j_w[i].dot(u.w);
+      }
+    }
+    return rate - c.target + c.cfm * l;
   };
   // The slot of "no body" is only read: rows of one colour may share it, so it is never written.
   const auto apply = [&](const CompactRow& c, double delta) {
@@ -230,6 +268,15 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
       Velocity& b = velocities_[static_cast<std::size_t>(c.b)];
       b.v += delta * c.wb_v;
       b.w += delta * c.wb_w;
+    }
+    if (c.coupled >= 0) [[unlikely]] {
+      const CoupledEnds& e = coupled_[static_cast<std::size_t>(c.coupled)];
+      for (int i = 0; i < 2; ++i) {
+        if (e.body[i] == none) continue;
+        Velocity& u = velocities_[static_cast<std::size_t>(e.body[i])];
+        u.v += delta * e.w_v[i];
+        u.w += delta * e.w_w[i];
+      }
     }
   };
 

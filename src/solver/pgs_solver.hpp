@@ -48,8 +48,14 @@ class PgsSolver final : public ConstraintSolver {
     Vec3 ja_v, ja_w, jb_v, jb_w;                     // J, linear and angular part of each end
     Vec3 wa_v, wa_w, wb_v, wb_w;                     // M^-1 J^T
     double inv_diag, diag, target, cfm, lo, hi, mu;  // diag: A_kk / sor, for the violation
-    int a, b;    // velocity slots; a row end without a body points at a slot that stays zero
-    int normal;  // friction rows: the normal row whose impulse bounds this one, else -1
+    int a, b;     // velocity slots; a row end without a body points at a slot that stays zero
+    int normal;   // friction rows: the normal row whose impulse bounds this one, else -1
+    int coupled;  // a coupled row's further bodies (Row::coupled): its index in coupled_, else -1
+  };
+  /// A coupled row's bodies c and d: J, M^-1 J^T and velocity slots, as CompactRow's ends.
+  struct CoupledEnds {
+    Vec3 j_v[2], j_w[2], w_v[2], w_w[2];
+    int body[2];
   };
 
   struct Group {  // consecutive items [begin, begin + size)
@@ -71,7 +77,9 @@ class PgsSolver final : public ConstraintSolver {
   void buildItems(const std::vector<int>& group_ends);
 
   std::vector<CompactRow> rows_;  // in sweep order
-  std::vector<double> lambda_;    // in sweep order
+  std::vector<CoupledEnds> coupled_;
+  std::vector<int> coupled_of_;  // per sweep position: its index in coupled_, or -1
+  std::vector<double> lambda_;   // in sweep order
   std::vector<Velocity> velocities_;
   std::vector<int> order_;     // sweep position -> row
   std::vector<int> position_;  // row -> sweep position

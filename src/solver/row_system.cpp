@@ -20,6 +20,10 @@ void RowSystem::build(const Problem& p) {
   const std::size_t n = p.rows.size();
   Wa.assign(n, Vec6::Zero());
   Wb.assign(n, Vec6::Zero());
+  const bool coupled =
+      std::any_of(p.rows.begin(), p.rows.end(), [](const Row& r) { return r.coupled(); });
+  Wc.assign(coupled ? n : 0, Vec6::Zero());
+  Wd.assign(coupled ? n : 0, Vec6::Zero());
   diag.resize(n);
   target.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -33,30 +37,43 @@ void RowSystem::build(const Problem& p) {
       Wb[k] = invMassTimes(p.bodies[static_cast<std::size_t>(r.body_b)], r.Jb);
       d += r.Jb.dot(Wb[k]);
     }
+    if (r.body_c >= 0) {
+      Wc[k] = invMassTimes(p.bodies[static_cast<std::size_t>(r.body_c)], r.Jc);
+      d += r.Jc.dot(Wc[k]);
+    }
+    if (r.body_d >= 0) {
+      Wd[k] = invMassTimes(p.bodies[static_cast<std::size_t>(r.body_d)], r.Jd);
+      d += r.Jd.dot(Wd[k]);
+    }
     diag[k] = d;
     target[k] = r.target(p.h);
   }
 }
 
+Vec6 RowSystem::blockOn(const Row& row, std::size_t k, int body) const {
+  Vec6 w = Vec6::Zero();
+  if (body < 0) return w;
+  forEachW(row, k, [&](int b, const Vec6& wb) {
+    if (b == body) w = wb;
+  });
+  return w;
+}
+
 double RowSystem::rate(const Row& row, std::span<const SolverBody> bodies) {
   double r = 0.0;
-  if (row.body_a >= 0) r += dot(row.Ja, bodies[static_cast<std::size_t>(row.body_a)]);
-  if (row.body_b >= 0) r += dot(row.Jb, bodies[static_cast<std::size_t>(row.body_b)]);
+  row.forEachBlock([&](int body, const Vec6& j) {
+    if (body >= 0) r += dot(j, bodies[static_cast<std::size_t>(body)]);
+  });
   return r;
 }
 
 void RowSystem::apply(const Row& row, std::size_t k, double delta,
                       std::span<SolverBody> bodies) const {
-  if (row.body_a >= 0) {
-    SolverBody& b = bodies[static_cast<std::size_t>(row.body_a)];
-    b.v += delta * Wa[k].head<3>();
-    b.w += delta * Wa[k].tail<3>();
-  }
-  if (row.body_b >= 0) {
-    SolverBody& b = bodies[static_cast<std::size_t>(row.body_b)];
-    b.v += delta * Wb[k].head<3>();
-    b.w += delta * Wb[k].tail<3>();
-  }
+  forEachW(row, k, [&](int body, const Vec6& w) {
+    SolverBody& b = bodies[static_cast<std::size_t>(body)];
+    b.v += delta * w.head<3>();
+    b.w += delta * w.tail<3>();
+  });
 }
 
 void RowSystem::bounds(std::span<const Row> rows, std::span<const double> lambda, std::size_t k,

@@ -7,11 +7,23 @@
 namespace linx::solver {
 
 struct RowSystem {
-  std::vector<Vec6> Wa, Wb;    ///< M^-1 J^T blocks of each row's bodies
+  std::vector<Vec6> Wa, Wb;  ///< M^-1 J^T blocks of each row's bodies
+  /// Of the coupled rows' bodies c and d (Row::coupled): empty when no row is.
+  std::vector<Vec6> Wc, Wd;
   std::vector<double> diag;    ///< A_kk = J_k M^-1 J_k^T + cfm_k
   std::vector<double> target;  ///< xi_k
 
   void build(const Problem& p);
+  /// W of row k's block on body `body` (Wa, Wb, Wc or Wd), zero if the row does not act on it.
+  Vec6 blockOn(const Row& row, std::size_t k, int body) const;
+  /// g(body, W block) for each body row k acts on.
+  template <class G>
+  void forEachW(const Row& row, std::size_t k, G&& g) const {
+    if (row.body_a >= 0) g(row.body_a, Wa[k]);
+    if (row.body_b >= 0) g(row.body_b, Wb[k]);
+    if (row.body_c >= 0) g(row.body_c, Wc[k]);
+    if (row.body_d >= 0) g(row.body_d, Wd[k]);
+  }
 
   /// J_k u for the bodies' current velocities.
   static double rate(const Row& row, std::span<const SolverBody> bodies);

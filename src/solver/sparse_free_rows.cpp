@@ -14,23 +14,28 @@ using Triplet = Eigen::Triplet<double>;
 void SparseFreeRows::assemble(const Problem& p, const RowSystem& sys) {
   const std::size_t n = p.rows.size();
   // Rows touching each body; A_kl = sum over shared bodies of J_k,body . (M^-1 J_l,body^T).
-  std::vector<std::vector<std::pair<int, bool>>> by_body(p.bodies.size());  // (row, is side a)
+  // (row, its J block on the body, its W block on the body)
+  struct Touch {
+    int row;
+    const Vec6* j;
+    const Vec6* w;
+  };
+  std::vector<std::vector<Touch>> by_body(p.bodies.size());
   for (std::size_t k = 0; k < n; ++k) {
     const Row& r = p.rows[k];
-    if (r.body_a >= 0) by_body[static_cast<std::size_t>(r.body_a)].push_back({int(k), true});
-    if (r.body_b >= 0) by_body[static_cast<std::size_t>(r.body_b)].push_back({int(k), false});
+    const auto touch = [&](int body, const Vec6& j, const Vec6& w) {
+      if (body >= 0) by_body[static_cast<std::size_t>(body)].push_back({int(k), &j, &w});
+    };
+    touch(r.body_a, r.Ja, sys.Wa[k]);
+    touch(r.body_b, r.Jb, sys.Wb[k]);
+    if (r.body_c >= 0) touch(r.body_c, r.Jc, sys.Wc[k]);
+    if (r.body_d >= 0) touch(r.body_d, r.Jd, sys.Wd[k]);
   }
   std::vector<Triplet> triplets;
   for (std::size_t k = 0; k < n; ++k) triplets.emplace_back(int(k), int(k), p.rows[k].cfm);
-  for (const auto& list : by_body) {
-    for (const auto& [k, ka] : list) {
-      const Vec6& jk = ka ? p.rows[std::size_t(k)].Ja : p.rows[std::size_t(k)].Jb;
-      for (const auto& [l, la] : list) {
-        const Vec6& wl = la ? sys.Wa[std::size_t(l)] : sys.Wb[std::size_t(l)];
-        triplets.emplace_back(k, l, jk.dot(wl));
-      }
-    }
-  }
+  for (const auto& list : by_body)
+    for (const Touch& k : list)
+      for (const Touch& l : list) triplets.emplace_back(k.row, l.row, k.j->dot(*l.w));
   a_.resize(int(n), int(n));
   a_.setFromTriplets(triplets.begin(), triplets.end());
 }

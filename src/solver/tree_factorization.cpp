@@ -137,6 +137,11 @@ bool movable(const SolverBody& b) {
 
 bool TreeFactorization::analyse(const Problem& p) {
   const std::size_t n = p.rows.size();
+  // A row coupling two joints closes a loop through their bodies: the general path's.
+  if (std::any_of(p.rows.begin(), p.rows.end(), [](const Row& r) { return r.coupled(); })) {
+    analysed_ = false;
+    return false;
+  }
   const auto endOf = [&](int body) {
     return body >= 0 && movable(p.bodies[static_cast<std::size_t>(body)]) ? body : -1;
   };

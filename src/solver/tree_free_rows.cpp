@@ -14,14 +14,16 @@ void TreeFreeRows::multiply(const Problem& p, std::span<const double> x, std::sp
   for (std::size_t k = 0; k < p.rows.size(); ++k) {
     const Row& r = p.rows[k];
     if (x[k] == 0.0) continue;
-    if (r.body_a >= 0) body_work_[static_cast<std::size_t>(r.body_a)] += x[k] * sys_->Wa[k];
-    if (r.body_b >= 0) body_work_[static_cast<std::size_t>(r.body_b)] += x[k] * sys_->Wb[k];
+    sys_->forEachW(r, k, [&](int body, const Vec6& w) {
+      body_work_[static_cast<std::size_t>(body)] += x[k] * w;
+    });
   }
   for (std::size_t k = 0; k < p.rows.size(); ++k) {
     const Row& r = p.rows[k];
     double v = r.cfm * x[k];
-    if (r.body_a >= 0) v += r.Ja.dot(body_work_[static_cast<std::size_t>(r.body_a)]);
-    if (r.body_b >= 0) v += r.Jb.dot(body_work_[static_cast<std::size_t>(r.body_b)]);
+    r.forEachBlock([&](int body, const Vec6& j) {
+      if (body >= 0) v += j.dot(body_work_[static_cast<std::size_t>(body)]);
+    });
     out[k] = v;
   }
 }

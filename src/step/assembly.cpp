@@ -33,6 +33,8 @@ JointContext contextOf(std::span<const Body> bodies, const Joint& j, const Solve
   JointContext ctx{stateOf(bodies, j.body1()), stateOf(bodies, j.body2()), h,
                    def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
   ctx.time = time;
+  const std::array<BodyId, 2> more = j.coupledBodies();
+  for (std::size_t i = 0; i < more.size(); ++i) ctx.more[i] = stateOf(bodies, more[i]);
   // Only armature reads the velocities at the start.
   const auto armature = [](const CoordinateDef& c) { return c.armature > 0.0; };
   if (!start.empty() && std::any_of(def.coordinates.begin(), def.coordinates.end(), armature)) {
@@ -64,8 +66,34 @@ int solverIndex(std::span<const Body> bodies, BodyId id) {
   return id.index;
 }
 bool finite(const Row& r) {
-  return r.Ja.allFinite() && r.Jb.allFinite() && std::isfinite(r.phi) && std::isfinite(r.speed) &&
-         std::isfinite(r.erp) && std::isfinite(r.cfm) && !std::isnan(r.lo) && !std::isnan(r.hi);
+  return r.Ja.allFinite() && r.Jb.allFinite() && r.Jc.allFinite() && r.Jd.allFinite() &&
+         std::isfinite(r.phi) && std::isfinite(r.speed) && std::isfinite(r.erp) &&
+         std::isfinite(r.cfm) && !std::isnan(r.lo) && !std::isnan(r.hi);
+}
+
+/// A coupled row's blocks c and d on their bodies (solver indices), each folded into the block of
+/// the same body when a and b (or c) have it: a row's bodies are distinct.
+void placeCoupled(Row& r, int c, int d) {
+  const auto place = [&](int body, Vec6& j, int& index) {
+    if (body < 0) {
+      index = -1;
+    } else if (body == r.body_a) {
+      r.Ja += j;
+      index = -1;
+    } else if (body == r.body_b) {
+      r.Jb += j;
+      index = -1;
+    } else if (&j == &r.Jd && body == r.body_c) {
+      r.Jc += j;
+      index = -1;
+    } else {
+      index = body;
+      return;
+    }
+    j.setZero();
+  };
+  place(c, r.Jc, r.body_c);
+  place(d, r.Jd, r.body_d);
 }
 }  // namespace
 
@@ -87,7 +115,9 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
     const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
     for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
     const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());
-    if (a < 0 && b < 0) continue;  // between static bodies / the world: nothing can move
+    const std::array<BodyId, 2> more = j.coupledBodies();
+    const int c = solverIndex(bodies, more[0]), d = solverIndex(bodies, more[1]);
+    if (a < 0 && b < 0 && c < 0 && d < 0) continue;  // between static bodies: nothing can move
     const int n = j.fill(ctx, slots);
     // 4. verify
     if (n < 0 || n > j.maxRows())
@@ -98,6 +128,7 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
       Row& r = slots[static_cast<std::size_t>(k)];
       r.body_a = a;
       r.body_b = b;
+      if (c >= 0 || d >= 0) placeCoupled(r, c, d);
       r.key = (static_cast<std::uint64_t>(ji + 1) << 8) | (r.key & 0xff);
       if (r.normal >=
           0) {  // a friction row: its normal row's index, from the joint's to the list's

@@ -16,6 +16,18 @@ constexpr std::ptrdiff_t kParallelRows = 4096;
 void rowLinks(std::span<const Row> rows, std::vector<std::pair<int, int>>& links) {
   links.resize(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) links[k] = {rows[k].body_a, rows[k].body_b};
+  // A coupled row joins its further bodies to its first one as well.
+  for (const Row& r : rows) {
+    if (!r.coupled()) continue;
+    int first = -1;
+    r.forEachBlock([&](int body, const Vec6&) {
+      if (body < 0) return;
+      if (first >= 0)
+        links.emplace_back(first, body);
+      else
+        first = body;
+    });
+  }
 }
 
 namespace {
@@ -43,8 +55,9 @@ SolverReport solveIsland(int i, const Islands& islands, std::span<const Row> row
   out.statics.clear();
   for (std::size_t j = 0; j < m; ++j) {
     const Row& r = rows[static_cast<std::size_t>(begin[j])];
-    for (const int body : {r.body_a, r.body_b})
+    r.forEachBlock([&](int body, const Vec6&) {
       if (body >= 0 && islands.islandOf(body) < 0) out.statics.push_back(body);
+    });
   }
   std::sort(out.statics.begin(), out.statics.end());
   out.statics.erase(std::unique(out.statics.begin(), out.statics.end()), out.statics.end());
@@ -63,6 +76,8 @@ SolverReport solveIsland(int i, const Islands& islands, std::span<const Row> row
     r = rows[k];
     r.body_a = local(r.body_a);
     r.body_b = local(r.body_b);
+    r.body_c = local(r.body_c);
+    r.body_d = local(r.body_d);
     if (r.normal >= 0) r.normal = work.local_row[static_cast<std::size_t>(r.normal)];
     out.lambda[static_cast<std::size_t>(j)] = lambda[k];
   });
@@ -114,10 +129,14 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
   work.row_island.resize(n);
   parallel::forEach(signed_n, threads, kParallelRows, [&](std::ptrdiff_t ik) {
     const auto k = static_cast<std::size_t>(ik);
-    const int a = islandOf(rows[k].body_a), b = islandOf(rows[k].body_b);
-    if (a >= 0 && b >= 0 && a != b)
-      throw std::invalid_argument("solveIslands: a row joins two islands");
-    work.row_island[k] = a >= 0 ? a : b;
+    int island = -1;
+    rows[k].forEachBlock([&](int body, const Vec6&) {
+      const int i = islandOf(body);
+      if (island >= 0 && i >= 0 && i != island)
+        throw std::invalid_argument("solveIslands: a row joins two islands");
+      if (i >= 0) island = i;
+    });
+    work.row_island[k] = island;
   });
   parallel::forEach(signed_n, threads, kParallelRows, [&](std::ptrdiff_t ik) {
     const auto k = static_cast<std::size_t>(ik);

@@ -65,7 +65,8 @@ void PostStabilization::addCurvature(std::span<const Body> bodies, std::span<Row
     for (std::size_t i = j; i < previous_.size() && (previous_[i].key >> 8) == owner; ++i) {
       const Row& p = previous_[i];
       if (p.key != r.key) continue;
-      if (p.body_a == r.body_a && p.body_b == r.body_b)
+      // (A coupled row's J changes with four bodies' turns: it takes none.)
+      if (p.body_a == r.body_a && p.body_b == r.body_b && !r.coupled() && !p.coupled())
         r.speed -= 0.5 * std::min(share(r.body_a, r.Ja), share(r.body_b, r.Jb)) *
                    ((r.Ja - p.Ja).dot(velocity(r.body_a)) + (r.Jb - p.Jb).dot(velocity(r.body_b)));
       break;
@@ -92,7 +93,9 @@ double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
   // Limits are left to the velocity solve (see the header).
   std::erase_if(rows_, [&](const Row& r) {
     const bool positional = r.kind == RowKind::Bilateral || r.kind == RowKind::Motor;
-    return !positional || r.cfm > settings.cfm || (fixed(r.body_a) && fixed(r.body_b));
+    bool all_fixed = true;
+    r.forEachBlock([&](int body, const Vec6&) { all_fixed = all_fixed && fixed(body); });
+    return !positional || r.cfm > settings.cfm || all_fixed;
   });
   double err = 0.0;
   for (Row& r : rows_) {
@@ -105,7 +108,11 @@ double PostStabilization::gather(std::span<const std::unique_ptr<Joint>> joints,
             .cfm = r.cfm,
             .key = r.key,
             .body_a = r.body_a,
-            .body_b = r.body_b};
+            .body_b = r.body_b,
+            .Jc = r.Jc,
+            .Jd = r.Jd,
+            .body_c = r.body_c,
+            .body_d = r.body_d};
     err = std::max(err, std::abs(r.phi));
   }
   return err;
@@ -119,8 +126,9 @@ void PostStabilization::displace(std::span<Body> bodies, std::span<const double>
   for (std::size_t k = 0; k < factored_.size(); ++k) {
     if (dl[k] == 0.0) continue;
     const Row& r = factored_[k];
-    if (r.body_a >= 0) dx_[static_cast<std::size_t>(r.body_a)] += dl[k] * r.Ja;
-    if (r.body_b >= 0) dx_[static_cast<std::size_t>(r.body_b)] += dl[k] * r.Jb;
+    r.forEachBlock([&](int body, const Vec6& j) {
+      if (body >= 0) dx_[static_cast<std::size_t>(body)] += dl[k] * j;
+    });
   }
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (still(i) || dx_[i].isZero(0)) continue;

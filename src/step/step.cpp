@@ -126,8 +126,11 @@ void gatherSolverBodies(const Scene& scene, State& state) {
 
 /// The island of a row's movable end, -1 for none.
 int islandOfRow(const State& state, const Row& r) {
-  const int a = r.body_a >= 0 ? state.islands.islandOf(r.body_a) : -1;
-  return a >= 0 ? a : r.body_b >= 0 ? state.islands.islandOf(r.body_b) : -1;
+  int island = -1;
+  r.forEachBlock([&](int body, const Vec6&) {
+    if (island < 0 && body >= 0) island = state.islands.islandOf(body);
+  });
+  return island;
 }
 
 SolverReport solve(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake,
@@ -333,8 +336,10 @@ void sleep(const Scene& scene, State& state, double h) {
   for (std::size_t k = 0; k < state.rows.rows.size(); ++k) {
     const Row& r = state.rows.rows[k];
     const int island = state.island_work.row_island[k];
-    if (island >= 0 && (movingKinematic(r.body_a) || movingKinematic(r.body_b)))
-      state.may_sleep[static_cast<std::size_t>(island)] = 0;
+    if (island < 0) continue;
+    r.forEachBlock([&](int body, const Vec6&) {
+      if (movingKinematic(body)) state.may_sleep[static_cast<std::size_t>(island)] = 0;
+    });
   }
   state.sleep.update(state.islands, scene.bodies, h, settings, state.may_sleep);
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {

@@ -17,8 +17,11 @@ void SubstepJoints::prepare(std::span<const std::unique_ptr<Joint>> joints,
   const auto moves = [&](int body) {
     return body >= 0 && moving[static_cast<std::size_t>(body)] != 0;
   };
-  for (const Row& r : all_)
-    if (moves(r.body_a) || moves(r.body_b)) rows_.push_back(r);
+  for (const Row& r : all_) {
+    bool any = false;
+    r.forEachBlock([&](int body, const Vec6&) { any = any || moves(body); });
+    if (any) rows_.push_back(r);
+  }
   if (settings.post_stabilization > 0) post.addCurvature(bodies, rows_, start);
   lambda_.resize(rows_.size());
   warm.load(rows_, lambda_);
@@ -30,12 +33,12 @@ void SubstepJoints::apply(std::span<solver::SoftSolver::Body> bodies,
     const double l = impulses[k];
     if (l == 0.0) continue;
     const Row& r = rows_[k];
-    for (const auto& [body, j] : {std::pair{r.body_a, &r.Ja}, std::pair{r.body_b, &r.Jb}}) {
-      if (body < 0) continue;
+    r.forEachBlock([&](int body, const Vec6& j) {
+      if (body < 0) return;
       solver::SoftSolver::Body& b = bodies[static_cast<std::size_t>(body)];
-      b.v += (l * b.inv_mass) * j->head<3>();
-      b.w += l * (b.inv_inertia * j->tail<3>());
-    }
+      b.v += (l * b.inv_mass) * j.head<3>();
+      b.w += l * (b.inv_inertia * j.tail<3>());
+    });
   }
 }
 

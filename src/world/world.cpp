@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 namespace linx {
@@ -149,7 +150,21 @@ BodyId World::createBody(const BodyDef& given) {
   return BodyId{slot, slots.generation(slot)};
 }
 
-JointId World::createJoint(std::string_view type, const JointDef& def) {
+JointId World::createJoint(std::string_view type, const JointDef& given) {
+  // A joint that ties two joints (a mimic joint) is between the follower's bodies.
+  JointDef def = given;
+  std::array<const Joint*, 2> coupled = {nullptr, nullptr};
+  if (const JointTypeInfo* t = findJointType(type); t && t->couples_joints) {
+    for (const auto& [field, id, out] : {std::tuple{"leader", def.leader, &coupled[0]},
+                                         std::tuple{"follower", def.follower, &coupled[1]}}) {
+      if (!id) throw std::invalid_argument(fmt::format("{}: a {} joint needs one", field, type));
+      if (!contains(*id))
+        throw std::invalid_argument(fmt::format("{}: not a joint of this world", field));
+      *out = &joint(*id);
+    }
+    def.body1 = coupled[1]->body1();
+    def.body2 = coupled[1]->body2();
+  }
   if (!contains(def.body1)) throw std::invalid_argument("body1: must be a body of this world");
   if (!def.body2.isWorld() && !contains(def.body2))
     throw std::invalid_argument("body2: not a body of this world");
@@ -158,7 +173,7 @@ JointId World::createJoint(std::string_view type, const JointDef& def) {
   if (findJoint(def.name))
     throw std::invalid_argument(fmt::format("duplicate joint name '{}'", def.name));
   const BodyState b1 = bodyState(def.body1), b2 = bodyState(def.body2);
-  auto joint = makeJoint(type, joints::inWorldFrame(def, b1.pose, b2.pose), b1, b2);
+  auto joint = makeJoint(type, joints::inWorldFrame(def, b1.pose, b2.pose), b1, b2, coupled);
   Slots& slots = impl_->joint_slots;
   const int slot = slots.take();
   if (slot == jointCount())
@@ -194,6 +209,11 @@ void World::removeBody(BodyId id) {
 void World::removeJoint(JointId id) {
   const Joint& removed = joint(id);  // checks the id
   const auto slot = static_cast<std::size_t>(id.index);
+  // A joint that ties this one to another (a mimic joint) goes with it.
+  for (const JointId j : jointIds()) {
+    const JointDef& def = joints_[static_cast<std::size_t>(j.index)]->def();
+    if (j != id && (def.leader == id || def.follower == id)) removeJoint(j);
+  }
   for (const BodyId b : {removed.body1(), removed.body2()})  // they may have hung on it
     if (!b.isWorld()) impl_->step.sleep.wake(b.index);
   impl_->joint_names.erase(removed.name());
@@ -380,7 +400,9 @@ void World::setJointCoordinate(JointId id, int coordinate, double value) {
 double World::jointError(JointId id) const {
   const Joint& j = joint(id);
   if (!j.enabled()) return 0.0;
-  return j.error(bodyState(j.body1()), bodyState(j.body2()));
+  const std::array<BodyId, 2> more = j.coupledBodies();
+  return j.error(bodyState(j.body1()), bodyState(j.body2()),
+                 {bodyState(more[0]), bodyState(more[1])});
 }
 
 double World::maxJointError() const {
