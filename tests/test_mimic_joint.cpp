@@ -213,7 +213,8 @@ TEST(Mimic, GoesWithTheJointsItTies) {
   const BodyId b = world.createBody(test::boxBody("b", 1.0, Vec3(0.1, 0.1, 0.1), Vec3(1, 0, 0)));
   const JointId j1 = world.createJoint("slider", slider("s1", a, kWorldBody, Vec3::UnitX()));
   const JointId j2 = world.createJoint("slider", slider("s2", b, kWorldBody, Vec3::UnitX()));
-  const JointId tie = world.createJoint("mimic", mimic("tie", j1, j2, 1.0, 0.0));
+  const JointId tie =
+      world.createJoint(MimicDef{.name = "tie", .leader = j1, .follower = j2, .ratio = 1.0});
   EXPECT_EQ(world.joint(tie).body1(), b);  // the follower's bodies
   world.removeJoint(j1);
   EXPECT_FALSE(world.contains(tie));

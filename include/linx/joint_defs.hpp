@@ -260,6 +260,19 @@ struct SerialDef {
   bool collide = false;
 };
 
+/// Ties two joints (hinges or sliders): the follower's coordinate is held at ratio times the
+/// leader's plus offset (URDF's <mimic>); the row acts on both joints' bodies.
+struct MimicDef {
+  static constexpr std::string_view kType = "mimic";
+  std::string name;
+  std::optional<JointId> leader = std::nullopt;    ///< required
+  std::optional<JointId> follower = std::nullopt;  ///< required, another joint
+  double ratio = 1.0;                              ///< non-zero
+  double offset = 0.0;                             ///< (m or rad)
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
+};
+
 /// The JointDef each typed definition stands for (createJoint(T::kType, toJointDef(def)) makes
 /// the joint).
 JointDef toJointDef(const FixedDef& def);
@@ -277,6 +290,7 @@ JointDef toJointDef(const GenericDef& def);
 JointDef toJointDef(const SpringDef& def);
 JointDef toJointDef(const RackAndPinionDef& def);
 JointDef toJointDef(const SerialDef& def);
+JointDef toJointDef(const MimicDef& def);
 
 /// A typed joint definition: one of the structs above.
 template <class T>

@@ -152,4 +152,18 @@ JointDef toJointDef(const SerialDef& d) {
   return j;
 }
 
+JointDef toJointDef(const MimicDef& d) {
+  JointDef j;  // its bodies are the follower's (World::createJoint)
+  j.name = d.name;
+  j.leader = d.leader;
+  j.follower = d.follower;
+  j.ratio = d.ratio;
+  j.offset = d.offset;
+  j.break_force = d.break_force;
+  j.break_torque = d.break_torque;
+  j.erp = d.erp;
+  j.cfm = d.cfm;
+  return j;
+}
+
 }  // namespace linx

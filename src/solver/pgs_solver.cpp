@@ -216,9 +216,8 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
       c.wb_w = b.inv_inertia * c.jb_w;
       diag += c.jb_v.dot(c.wb_v) + c.jb_w.dot(c.wb_w);
     }
-    c.coupled = coupled_of[pos];
-    if (c.coupled >= 0) {
-      const CoupledEnds& e = coupled_[static_cast<std::size_t>(c.coupled)];
+    if (coupled_of[pos] >= 0) {
+      const CoupledEnds& e = coupled_[static_cast<std::size_t>(coupled_of[pos])];
       for (int i = 0; i < 2; ++i) diag += e.j_v[i].dot(e.w_v[i]) + e.j_w[i].dot(e.w_w[i]);
     }
     c.inv_diag = diag > 0.0 ? 1.0 / diag : 0.0;  // 0: a row that touches no movable body
@@ -247,15 +246,8 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   const auto slack = [&](const CompactRow& c, double l) {
     const Velocity& a = velocities_[static_cast<std::size_t>(c.a)];
     const Velocity& b = velocities_[static_cast<std::size_t>(c.b)];
-    double rate = c.ja_v.dot(a.v) + c.ja_w.dot(a.w) + c.jb_v.dot(b.v) + c.jb_w.dot(b.w);
-    if (c.coupled >= 0) [[unlikely]] {
-      const CoupledEnds& e = coupled_[static_cast<std::size_t>(c.coupled)];
-      for (int i = 0; i < 2; ++i) {
-        const Velocity& u = velocities_[static_cast<std::size_t>(e.body[i])];
-        rate += e.j_v[i].dot(u.v) + e.j_w[i].dot(u.w);
-      }
-    }
-    return rate - c.target + c.cfm * l;
+    return c.ja_v.dot(a.v) + c.ja_w.dot(a.w) + c.jb_v.dot(b.v) + c.jb_w.dot(b.w) - c.target +
+           c.cfm * l;
   };
   // The slot of "no body" is only read: rows of one colour may share it, so it is never written.
   const auto apply = [&](const CompactRow& c, double delta) {
@@ -269,15 +261,32 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
       b.v += delta * c.wb_v;
       b.w += delta * c.wb_w;
     }
-    if (c.coupled >= 0) [[unlikely]] {
-      const CoupledEnds& e = coupled_[static_cast<std::size_t>(c.coupled)];
+  };
+  // The rows at sweep position k with a coupled row's further ends (CoupledEnds): slack and apply
+  // of the whole row. Only the rows' first two ends are in rows_, so the sweep's hot path stays
+  // as it is for contacts; a coupled row is an item of its own (relaxItem).
+  const auto coupledAt = [&](std::size_t k) -> const CoupledEnds* {
+    if (coupled_.empty() || coupled_of_[k] < 0) return nullptr;
+    return &coupled_[static_cast<std::size_t>(coupled_of_[k])];
+  };
+  const auto slackAt = [&](std::size_t k, double l) {
+    double w = slack(rows_[k], l);
+    if (const CoupledEnds* e = coupledAt(k))
       for (int i = 0; i < 2; ++i) {
-        if (e.body[i] == none) continue;
-        Velocity& u = velocities_[static_cast<std::size_t>(e.body[i])];
-        u.v += delta * e.w_v[i];
-        u.w += delta * e.w_w[i];
+        const Velocity& u = velocities_[static_cast<std::size_t>(e->body[i])];
+        w += e->j_v[i].dot(u.v) + e->j_w[i].dot(u.w);
       }
-    }
+    return w;
+  };
+  const auto applyAt = [&](std::size_t k, double delta) {
+    apply(rows_[k], delta);
+    if (const CoupledEnds* e = coupledAt(k))
+      for (int i = 0; i < 2; ++i) {
+        if (e->body[i] == none) continue;
+        Velocity& u = velocities_[static_cast<std::size_t>(e->body[i])];
+        u.v += delta * e->w_v[i];
+        u.w += delta * e->w_w[i];
+      }
   };
 
   // Warm start: apply the initial guess, clamped to the bounds it must respect; group by group
@@ -286,7 +295,7 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     double lo, hi;
     bounds(rows_[k], lo, hi);
     lambda[k] = std::clamp(lambda[k], lo, hi);
-    if (lambda[k] != 0.0) apply(rows_[k], lambda[k]);
+    if (lambda[k] != 0.0) applyAt(k, lambda[k]);
   };
   buildItems(group_ends_);
   const auto warmItem = [&](int i) {
@@ -318,11 +327,24 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     apply(c, next - l);
     return std::abs(next - l) * c.diag;
   };
+  // A coupled row, as relax does (off the hot path).
+  const auto relaxCoupled = [&](std::size_t k) {
+    double lo, hi;
+    bounds(rows_[k], lo, hi);
+    const double l = lambda[k];
+    const double next = std::clamp(l - omega * slackAt(k, l) * rows_[k].inv_diag, lo, hi);
+    lambda[k] = next;
+    applyAt(k, next - l);
+    return std::abs(next - l) * rows_[k].diag;
+  };
   // A block of equality rows: all its impulses at once, lambda_b -= omega A_bb^-1 w_b, so the
   // block's rows hold together after its update. Its violation: the largest of its rows'.
   const auto relaxItem = [&](int i) {
     const Item& item = items_[static_cast<std::size_t>(i)];
-    if (item.block < 0) return relax(static_cast<std::size_t>(item.begin));
+    if (item.block < 0) {
+      const auto k = static_cast<std::size_t>(item.begin);
+      return coupledAt(k) ? relaxCoupled(k) : relax(k);
+    }
     BlockVector w = BlockVector::Zero();
     for (int j = 0; j < item.size; ++j) {
       const auto k = static_cast<std::size_t>(item.begin + j);
@@ -342,9 +364,9 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
   // Sweeps alternate direction (symmetric Gauss-Seidel): a one-way sweep leaves a bias towards
   // the rows it visits last, which tilts a symmetric pile of contacts. A backward sweep visits the
   // groups in reverse, and a serial group's items in reverse. The items of a colour share no body:
-  // the threads split them, and the result is the same for any number of threads. With no block,
-  // every item is its row and the sweep calls relax directly (the item's indirection cost 10 % on
-  // a pile of spheres).
+  // the threads split them, and the result is the same for any number of threads. With no block and
+  // no coupled row, every item is its row and the sweep calls relax directly (the item's
+  // indirection cost 10 % on a pile of spheres).
   report.converged = false;
   const int iterations = settings.iterations;
   const auto sweeps = [&](auto&& relaxOne) {
@@ -398,7 +420,7 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
       }
     }
   };
-  if (block_inverse_.empty())
+  if (block_inverse_.empty() && coupled_.empty())
     sweeps([&](int k) { return relax(static_cast<std::size_t>(k)); });
   else
     sweeps(relaxItem);
@@ -423,8 +445,7 @@ SolverReport PgsSolver::solve(Problem& p, const SolverSettings& settings) {
     for (std::size_t k = n * chunk / chunks; k < n * (chunk + 1) / chunks; ++k) {
       double lo, hi;
       bounds(rows_[k], lo, hi);
-      residual =
-          std::max(residual, RowSystem::violation(lambda[k], lo, hi, slack(rows_[k], lambda[k])));
+      residual = std::max(residual, RowSystem::violation(lambda[k], lo, hi, slackAt(k, lambda[k])));
     }
     thread_violation_[chunk] = residual;
   });

@@ -48,9 +48,8 @@ class PgsSolver final : public ConstraintSolver {
     Vec3 ja_v, ja_w, jb_v, jb_w;                     // J, linear and angular part of each end
     Vec3 wa_v, wa_w, wb_v, wb_w;                     // M^-1 J^T
     double inv_diag, diag, target, cfm, lo, hi, mu;  // diag: A_kk / sor, for the violation
-    int a, b;     // velocity slots; a row end without a body points at a slot that stays zero
-    int normal;   // friction rows: the normal row whose impulse bounds this one, else -1
-    int coupled;  // a coupled row's further bodies (Row::coupled): its index in coupled_, else -1
+    int a, b;    // velocity slots; a row end without a body points at a slot that stays zero
+    int normal;  // friction rows: the normal row whose impulse bounds this one, else -1
   };
   /// A coupled row's bodies c and d: J, M^-1 J^T and velocity slots, as CompactRow's ends.
   struct CoupledEnds {

@@ -34,7 +34,8 @@ JointContext contextOf(std::span<const Body> bodies, const Joint& j, const Solve
                    def.erp.value_or(settings.erp), def.cfm.value_or(settings.cfm)};
   ctx.time = time;
   const std::array<BodyId, 2> more = j.coupledBodies();
-  for (std::size_t i = 0; i < more.size(); ++i) ctx.more[i] = stateOf(bodies, more[i]);
+  for (std::size_t i = 0; i < more.size(); ++i)
+    if (!more[i].isWorld()) ctx.more[i] = stateOf(bodies, more[i]);
   // Only armature reads the velocities at the start.
   const auto armature = [](const CoordinateDef& c) { return c.armature > 0.0; };
   if (!start.empty() && std::any_of(def.coordinates.begin(), def.coordinates.end(), armature)) {
