@@ -5,17 +5,23 @@
 namespace linx {
 
 namespace {
+// What every type has, bodies aside (a mimic joint's are the follower's).
 template <class T>
-JointDef common(const T& d) {
+JointDef named(const T& d) {
   JointDef j;
   j.name = d.name;
-  j.body1 = d.body1;
-  j.body2 = d.body2;
-  j.local = d.local;
   j.break_force = d.break_force;
   j.break_torque = d.break_torque;
   j.erp = d.erp;
   j.cfm = d.cfm;
+  return j;
+}
+template <class T>
+JointDef common(const T& d) {
+  JointDef j = named(d);
+  j.body1 = d.body1;
+  j.body2 = d.body2;
+  j.local = d.local;
   j.collide = d.collide;
   return j;
 }
@@ -153,16 +159,11 @@ JointDef toJointDef(const SerialDef& d) {
 }
 
 JointDef toJointDef(const MimicDef& d) {
-  JointDef j;  // its bodies are the follower's (World::createJoint)
-  j.name = d.name;
+  JointDef j = named(d);  // its bodies are the follower's (World::createJoint)
   j.leader = d.leader;
   j.follower = d.follower;
   j.ratio = d.ratio;
   j.offset = d.offset;
-  j.break_force = d.break_force;
-  j.break_torque = d.break_torque;
-  j.erp = d.erp;
-  j.cfm = d.cfm;
   return j;
 }
 
