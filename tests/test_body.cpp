@@ -68,6 +68,19 @@ TEST(Body, RejectsBadDefinitions) {
   d.mass = 1.0;
   d.inertia = Vec3(1.0, -1.0, 1.0).asDiagonal();
   EXPECT_THROW(w.createBody(d), std::invalid_argument);
+  // Principal moments break the triangle inequality (100 > 1 + 1): no rigid body has them. A thin
+  // plate's (1, 2, 3: the largest the sum of the others) is the limit, and accepted.
+  d.inertia = Vec3(1.0, 1.0, 100.0).asDiagonal();
+  try {
+    w.createBody(d);
+    ADD_FAILURE() << "accepted inertia [1, 1, 100]";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("not a rigid body's"), std::string::npos) << e.what();
+  }
+  d.inertia = Vec3(1.0, 2.0, 3.0).asDiagonal();
+  d.name = "plate";
+  EXPECT_NO_THROW(w.createBody(d));
+  d.name = "b";
   d.inertia = Mat3::Identity();
   d.position.x() = std::nan("");
   EXPECT_THROW(w.createBody(d), std::invalid_argument);

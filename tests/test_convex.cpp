@@ -681,6 +681,16 @@ TEST(MeshFile, BadFilesAreReportedWithTheirName) {
   const auto bad_index = tempFile("bad_index.obj");
   std::ofstream(bad_index) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
   expectLoadError(bad_index, "out of range");
+  // tinyobjloader reads a coordinate it cannot parse as 0: refused, with the line.
+  const auto nan_vertex = tempFile("nan_vertex.obj");
+  std::ofstream(nan_vertex) << "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n";
+  expectLoadError(nan_vertex, "line 2: vertex coordinate 'nan' is not a finite number");
+  const auto word_vertex = tempFile("word_vertex.obj");
+  std::ofstream(word_vertex) << "# a comment\nv 0 0 0\nv 1 0 0\nv a b c\nf 1 2 3\n";
+  expectLoadError(word_vertex, "line 4: vertex coordinate 'a' is not a finite number");
+  const auto signed_vertex = tempFile("signed_vertex.obj");  // as tinyobjloader reads them
+  std::ofstream(signed_vertex) << "v +0 -0 0\r\nv 1e0 0 0\r\nv 0 +1.0 0\r\nf 1 2 3\r\n";
+  EXPECT_EQ(io::loadMeshFile(signed_vertex.string()).points[2], Vec3(0, 1, 0));
   const auto unknown = tempFile("mesh.ply");
   std::ofstream(unknown) << "ply\n";
   expectLoadError(unknown, "unknown extension");

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -133,8 +134,30 @@ void readStl(const std::string& path, ShapeDef& mesh) {
   readBinaryStl(path, bytes, mesh);  // reports the size mismatch
 }
 
+/// tinyobjloader reads a coordinate it cannot parse (`v nan 0 0`, `v a b c`) as 0: each vertex
+/// line's numbers are checked first, so a bad one is refused with its line.
+void checkObjVertices(const std::string& path, const std::string& bytes) {
+  std::istringstream lines(bytes);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    std::istringstream words(line);
+    std::string tag;
+    if (!(words >> tag) || tag != "v") continue;
+    std::string word;
+    for (int k = 0; words >> word; ++k) {
+      double value = 0.0;
+      const char* begin = word.data() + (word.front() == '+' ? 1 : 0);  // from_chars takes no '+'
+      const char* end = word.data() + word.size();
+      const auto [stop, error] = std::from_chars(begin, end, value);
+      if (error != std::errc{} || stop != end || !std::isfinite(value))
+        fail(path, fmt::format("OBJ: line {}: vertex coordinate '{}' is not a finite number",
+                               number, word));
+    }
+  }
+}
+
 void readObj(const std::string& path, ShapeDef& mesh) {
-  readAll(path);  // missing / empty, with our messages
+  checkObjVertices(path, readAll(path));  // missing / empty, bad numbers: with our messages
   tinyobj::ObjReader reader;
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;

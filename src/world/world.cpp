@@ -117,6 +117,15 @@ BodyId World::createBody(const BodyDef& given) {
     const Mat3 sym = 0.5 * (*def.inertia + def.inertia->transpose());
     if (!def.inertia->allFinite() || sym.llt().info() != Eigen::Success)
       throw std::invalid_argument("inertia: must be finite, symmetric and positive definite");
+    // A rigid body's principal moments satisfy the triangle inequality: each at most the sum of
+    // the other two (a thin plate's largest is their sum; sum of m r^2 over the others' axes).
+    const Vec3 moments =
+        Eigen::SelfAdjointEigenSolver<Mat3>(sym, Eigen::EigenvaluesOnly).eigenvalues();
+    if (moments[2] > (moments[0] + moments[1]) * (1.0 + 1e-9))
+      throw std::invalid_argument(fmt::format(
+          "inertia: principal moments {:.6g}, {:.6g}, {:.6g} are not a rigid body's (the largest "
+          "exceeds the sum of the other two)",
+          moments[0], moments[1], moments[2]));
   }
   for (std::size_t k = 0; k < def.shapes.size(); ++k) {
     const ShapeDef& s = def.shapes[k];
