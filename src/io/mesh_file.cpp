@@ -144,7 +144,7 @@ void checkObjVertices(const std::string& path, const std::string& bytes) {
     std::string tag;
     if (!(words >> tag) || tag != "v") continue;
     std::string word;
-    for (int k = 0; words >> word; ++k) {
+    while (words >> word) {
       double value = 0.0;
       const char* begin = word.data() + (word.front() == '+' ? 1 : 0);  // from_chars takes no '+'
       const char* end = word.data() + word.size();
