@@ -253,31 +253,77 @@ case "$case_name" in
 }
 EOF
     expect 3 "$linx" run runaway.json --out out
-    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); nothing written"
-    expect_no_output_dir out
-    # An existing directory keeps its earlier results.
-    mkdir kept && echo "earlier" >kept/bodies.csv
-    expect 3 "$linx" run runaway.json --out kept
-    if [ "$(ls -A kept)" != "bodies.csv" ] || [ "$(cat kept/bodies.csv)" != "earlier" ]; then
-      fail "a failed run changed the output directory"
-    fi
+    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); output kept up to t = 1 s in out"
+    # The frames before the fault are kept, whole: t = 0, 0.5 and 1.
+    [ "$(cut -d, -f1 out/world.csv | tr '\n' ' ')" = "time 0 0.5 1 " ] ||
+      fail "world.csv of the faulted run: $(cat out/world.csv)"
     ;;
 
   interrupt)
-    # A long run, interrupted once its temporary files exist: it stops and removes them.
-    "$linx" run "$examples/hinge_chain.json" --out out --duration 1000 >out.txt 2>err.txt &
+    # SIGINT and SIGTERM stop a long run at the end of a step; what it recorded is kept, whole.
+    for signal in INT TERM; do
+      rm -rf out
+      "$linx" run "$examples/hinge_chain.json" --out out --duration 1000 >out.txt 2>err.txt &
+      pid=$!
+      for _ in $(seq 100); do
+        [ "$( { wc -l <out/world.csv; } 2>/dev/null || echo 0)" -gt 3 ] && break
+        sleep 0.1
+      done
+      [ "$(wc -l <out/world.csv)" -gt 3 ] || fail "the run did not start"
+      kill -$signal "$pid"
+      wait "$pid"
+      status=$?
+      [ "$status" -eq 130 ] || fail "SIG$signal: the run exited with $status, expected 130"
+      expect_error_line "linx: $examples/hinge_chain.json: interrupted at step "
+      # Its last frame is the step it stopped at, and the folder reads back.
+      stopped=$(sed -n 's/.*interrupted at step [0-9]* (t = \([^ ]*\) s).*/\1/p' err.txt)
+      [ "$(tail -n 1 out/world.csv | cut -d, -f1)" = "$stopped" ] ||
+        fail "SIG$signal: world.csv ends at $(tail -n 1 out/world.csv | cut -d, -f1), not $stopped"
+      expect 0 "$linx" vtk out
+    done
+
+    # SIGKILL at any moment: the folder still reads back, to the frames written.
+    for delay in 0.3 0.7 1.1; do
+      rm -rf out
+      "$linx" run "$examples/hinge_chain.json" --out out --duration 1000 >out.txt 2>err.txt &
+      pid=$!
+      sleep $delay
+      kill -KILL "$pid"
+      wait "$pid" 2>/dev/null
+      [ -e out/scene.json ] || continue  # killed before its first frame was written
+      expect 0 "$linx" vtk out
+    done
+
+    # A step that takes far longer than a second (a thousand hinges between the same two bodies:
+    # one dense solve of 5000 rows) is not waited for.
+    {
+      echo '{"duration": 1, "bodies": ['
+      echo '{"name": "a", "mass": 1, "inertia": [1, 1, 1], "position": [0, 0, 0]},'
+      echo '{"name": "b", "mass": 1, "inertia": [1, 1, 1], "position": [1, 0, 0]}], "joints": ['
+      for i in $(seq 1000); do
+        [ "$i" -gt 1 ] && echo ','
+        echo "{\"name\": \"h$i\", \"type\": \"hinge\", \"body1\": \"a\", \"body2\": \"b\", \"anchor\": [0.5, 0, 0], \"axis\": [0, 0, 1]}"
+      done
+      echo ']}'
+    } >redundant.json
+    rm -rf out
+    "$linx" run redundant.json --out out >out.txt 2>err.txt &
     pid=$!
     for _ in $(seq 100); do
-      [ -e out/.bodies.csv.tmp ] && break
+      [ -e out/scene.json ] && break
       sleep 0.1
     done
-    [ -e out/.bodies.csv.tmp ] || fail "the run did not start"
-    kill -INT "$pid"
+    sleep 0.5
+    start=$(date +%s%N)
+    kill -TERM "$pid"
     wait "$pid"
     status=$?
-    [ "$status" -eq 130 ] || fail "interrupted run exited with $status, expected 130"
-    expect_error_line "linx: $examples/hinge_chain.json: interrupted at step "
-    expect_no_output_dir out
+    elapsed_ms=$((($(date +%s%N) - start) / 1000000))
+    [ "$status" -eq 130 ] || fail "the long step: exited with $status, expected 130"
+    [ "$elapsed_ms" -lt 5000 ] || fail "the long step: took $elapsed_ms ms to stop"
+    grep -q "interrupted inside step 1, still running 1 s after the signal; output kept up to t = 0 s in out" err.txt ||
+      fail "the long step: unexpected message"
+    expect 0 "$linx" vtk out
     ;;
 
   plot)

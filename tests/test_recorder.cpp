@@ -1,12 +1,15 @@
 // The CSV recorder: exact headers, one row per body / joint / frame, numbers that read back to
-// the same doubles, and nothing under the final names (or at all) unless the run is committed.
+// the same doubles; every frame on disk when record() returns; an earlier run's files replaced and
+// nothing else touched, even when the folder is swapped for another during the run.
 #include <linx/recorder.hpp>
 #include <linx/world.hpp>
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -90,10 +93,10 @@ TEST_F(RecorderTest, WritesHeadersRowsAndFullPrecision) {
     recorder.record(world);
     world.step();
     recorder.record(world);
-    // Before the commit only the temporary files exist.
-    EXPECT_EQ(listing(dir),
-              (std::vector<std::string>{".bodies.csv.tmp", ".joints.csv.tmp", ".world.csv.tmp"}));
-    recorder.commit();
+    // Both frames are in the files before finish(): a kill now would keep them.
+    EXPECT_EQ(lines(dir / "bodies.csv").size(), 5u);
+    EXPECT_EQ(lines(dir / "world.csv").size(), 3u);
+    recorder.finish();
   }
   EXPECT_EQ(listing(dir), (std::vector<std::string>{"bodies.csv", "joints.csv", "world.csv"}));
 
@@ -154,37 +157,70 @@ TEST_F(RecorderTest, WritesHeadersRowsAndFullPrecision) {
   EXPECT_EQ(std::strtod(row[6].c_str(), nullptr), world.lastReport().residual);
 }
 
-TEST_F(RecorderTest, WithoutCommitNothingIsLeft) {
+TEST_F(RecorderTest, ReplacesAnEarlierRunAndNothingElse) {
   const linx::World world = makeWorld();
-  const fs::path dir = root_ / "a" / "b" / "c";
+  const fs::path dir = root_ / "out", outside = root_ / "outside";
+  fs::create_directories(dir / "vtk");
+  fs::create_directories(dir / "render");
+  fs::create_directories(outside);
+  for (const char* name : {"scene.json", "bodies.csv", "contacts.csv", "breaks.csv", "run.pvd",
+                           "vtk/bodies_000000.vtp", "render/frame_000000.png", "notes.txt"})
+    std::ofstream(dir / name) << "earlier run\n";
+  std::ofstream(outside / "keep.txt") << "not the run's\n";
+  fs::create_directory_symlink(outside, dir / "plots");  // a run file's name, but a link
   {
     linx::Recorder recorder(dir);
     recorder.record(world);
-    EXPECT_TRUE(fs::exists(dir / ".bodies.csv.tmp"));
   }
-  EXPECT_FALSE(fs::exists(root_ / "a"));  // every directory it created is gone
-
-  // A directory that was there stays, and so do the results of an earlier run.
-  const fs::path kept = root_ / "kept";
-  fs::create_directories(kept);
-  std::ofstream(kept / "bodies.csv") << "earlier run\n";
-  {
-    linx::Recorder recorder(kept);
-    recorder.record(world);
-  }
-  EXPECT_EQ(listing(kept), std::vector<std::string>{"bodies.csv"});
-  EXPECT_EQ(lines(kept / "bodies.csv"), std::vector<std::string>{"earlier run"});
+  // The earlier run's files are gone, the links among them removed without following them, and a
+  // file that is not a run's is kept.
+  EXPECT_EQ(listing(dir),
+            (std::vector<std::string>{"bodies.csv", "joints.csv", "notes.txt", "world.csv"}));
+  EXPECT_EQ(lines(dir / "notes.txt"), std::vector<std::string>{"earlier run"});
+  EXPECT_EQ(lines(outside / "keep.txt"), std::vector<std::string>{"not the run's"});
+  EXPECT_EQ(lines(dir / "bodies.csv").size(), 3u);
 }
 
-TEST_F(RecorderTest, CommitReplacesAnEarlierRun) {
-  const linx::World world = makeWorld();
-  std::ofstream(root_ / "bodies.csv") << "earlier run\n";
-  linx::Recorder recorder(root_);
+TEST_F(RecorderTest, AFolderSwappedDuringTheRunIsNeverTouched) {
+  linx::World world = makeWorld();
+  const fs::path dir = root_ / "out", moved = root_ / "moved";
+  linx::Recorder recorder(dir);
   recorder.record(world);
-  EXPECT_EQ(lines(root_ / "bodies.csv"), std::vector<std::string>{"earlier run"});
-  recorder.commit();
-  EXPECT_EQ(lines(root_ / "bodies.csv").size(), 3u);
+  // The folder is renamed and a file put in its place while the run goes on.
+  fs::rename(dir, moved);
+  std::ofstream(dir) << "someone else's file\n";
+  world.step();
+  recorder.record(world);
+  recorder.writeFile("scene.json", "{}\n");
+  recorder.finish();
+  EXPECT_EQ(lines(dir), std::vector<std::string>{"someone else's file"});
+  EXPECT_EQ(lines(moved / "bodies.csv").size(), 5u);
+  EXPECT_EQ(lines(moved / "scene.json"), std::vector<std::string>{"{}"});
   EXPECT_THROW(recorder.record(world), std::logic_error);
+}
+
+// Past the file size limit (ulimit -f) with SIGXFSZ ignored, as `linx run` does: a write error
+// that names the file, not a silent death.
+TEST_F(RecorderTest, AWriteErrorNamesTheFile) {
+  linx::World world = makeWorld();
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old_limit{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+  rlimit limit = old_limit;
+  limit.rlim_cur = 4096;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limit), 0);
+  std::string message;
+  try {
+    linx::Recorder recorder(root_);
+    for (int i = 0; i < 100; ++i) recorder.record(world);
+  } catch (const std::runtime_error& e) {
+    message = e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_NE(message.find("cannot write " + (root_ / "bodies.csv").string() + ": File too large"),
+            std::string::npos)
+      << message;
 }
 
 TEST_F(RecorderTest, UnusableDirectoryThrows) {

@@ -5,7 +5,11 @@
 #include <linx/linx.hpp>
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
 
 #include <cmath>
 #include <filesystem>
@@ -72,7 +76,7 @@ Recorded record(const fs::path& dir, int steps, int every) {
   const linx::Scene scene = linx::parseScene(kScene, "scene.json");
   linx::World world = linx::buildWorld(scene);
   linx::Recorder recorder(dir, linx::RecorderOptions{.contacts = true});
-  recorder.addFile("scene.json", linx::runSceneJson(scene, world, every));
+  recorder.writeFile("scene.json", linx::runSceneJson(scene, world, every));
   Recorded truth;
   const auto keep = [&] {
     recorder.record(world);
@@ -86,7 +90,7 @@ Recorded record(const fs::path& dir, int steps, int every) {
     world.step();
     if (s % every == 0) keep();
   }
-  recorder.commit();
+  recorder.finish();
   return truth;
 }
 
@@ -171,16 +175,24 @@ TEST_F(VizRun, BadFoldersAreNamedWithTheFileAndTheProblem) {
   EXPECT_NE(no_scene.find("scene.json: file: cannot be read"), std::string::npos) << no_scene;
   EXPECT_NE(no_scene.find("rerun"), std::string::npos) << no_scene;
 
-  // A frame cut short: the rows no longer make whole frames.
+  // A run killed part-way through a frame: the whole frames are read, the rest left out.
   fs::copy(root_ / "run", root_ / "short");
-  {
-    std::ifstream in(root_ / "run" / "bodies.csv");
-    std::ofstream out(root_ / "short" / "bodies.csv", std::ios::trunc);
+  const auto cutTo = [&](const char* file, int lines, const char* tail) {
+    std::ifstream in(root_ / "run" / file);
+    std::ofstream out(root_ / "short" / file, std::ios::trunc);
     std::string line;
-    for (int i = 0; i < 1 + 5 * 2 + 3 && std::getline(in, line); ++i) out << line << '\n';
-  }
-  const std::string short_run = message(root_ / "short");
-  EXPECT_NE(short_run.find("bodies.csv: rows:"), std::string::npos) << short_run;
+    for (int i = 0; i < lines && std::getline(in, line); ++i) out << line << '\n';
+    out << tail;
+  };
+  cutTo("bodies.csv", 1 + 5 * 2 + 3, "0.2,bo");  // 2 frames, 3 rows and half a row of the third
+  const linx::viz::Run short_run = linx::viz::readRun(root_ / "short");
+  EXPECT_EQ(short_run.frames.size(), 2u);
+  EXPECT_TRUE(short_run.truncated);
+  EXPECT_FALSE(linx::viz::readRun(root_ / "run").truncated);
+  // Files further apart than a kill can leave them are damaged: an error.
+  cutTo("bodies.csv", 1 + 5 * 1, "");
+  const std::string damaged = message(root_ / "short");
+  EXPECT_NE(damaged.find("joints.csv: rows: "), std::string::npos) << damaged;
 
   // A number that is not one, or not finite, reported with its line and field.
   for (const std::string bad : {"x", "inf", "nan"}) {
@@ -304,3 +316,79 @@ TEST_F(VizRun, AutomaticCameraFramesTheWholeRun) {
 }
 
 }  // namespace
+
+namespace {
+
+// Starts `linx run SCENE --out DIR ARGS...` and returns its process id.
+pid_t startRun(const std::string& scene, const fs::path& dir, std::vector<std::string> args) {
+  std::vector<std::string> argv{LINX_CLI, "run", scene, "--out", dir.string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::vector<char*> c_argv;
+    for (std::string& a : argv) c_argv.push_back(a.data());
+    c_argv.push_back(nullptr);
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execv(LINX_CLI, c_argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+}  // namespace
+
+// SIGKILL at any moment leaves a folder that reads back, and what it reads is exactly the start
+// of the uninterrupted run, frame for frame and bit for bit: never another run's files, never a
+// damaged frame. The moments are spread over the run, some inside the writing of a frame.
+TEST_F(VizRun, AKilledRunKeepsExactlyTheFramesItWrote) {
+  const std::string scene = std::string(LINX_EXAMPLES_DIR) + "/hinge_chain.json";
+  const fs::path full_dir = root_ / "full";
+  int status = 0;
+  waitpid(startRun(scene, full_dir, {"--duration", "10"}), &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const linx::viz::Run full = linx::viz::readRun(full_dir);
+  ASSERT_EQ(full.frames.size(), 10001u);
+
+  const fs::path dir = root_ / "killed";
+  int read_back = 0, truncated = 0;
+  std::size_t longest = 0;
+  for (int k = 0; k < 12; ++k) {
+    // An earlier run in the folder, which the killed one replaces.
+    const std::string earlier = std::string(LINX_EXAMPLES_DIR) + "/pendulum.json";
+    waitpid(startRun(earlier, dir, {"--duration", "0.1"}), &status, 0);
+    const pid_t pid = startRun(scene, dir, {"--duration", "10"});
+    usleep(static_cast<useconds_t>(20'000 + 90'000 * k));
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    if (!fs::exists(dir / "scene.json")) continue;  // killed before it wrote its first frame
+    const linx::viz::Run run = linx::viz::readRun(dir);
+    if (run.source == earlier) {  // killed before it started: the earlier run, whole
+      EXPECT_EQ(run.frames.size(), 101u);
+      EXPECT_FALSE(run.truncated);
+      continue;
+    }
+    ++read_back;
+    truncated += run.truncated;
+    longest = std::max(longest, run.frames.size());
+    ASSERT_EQ(run.source, scene);
+    ASSERT_EQ(run.bodies.size(), full.bodies.size());
+    ASSERT_LE(run.frames.size(), full.frames.size());
+    for (std::size_t f = 0; f < run.frames.size(); ++f) {
+      ASSERT_EQ(run.frames[f].time, full.frames[f].time) << "kill " << k << ", frame " << f;
+      for (std::size_t b = 0; b < run.bodies.size(); ++b) {
+        ASSERT_EQ(run.frames[f].poses[b].position, full.frames[f].poses[b].position);
+        ASSERT_EQ(run.frames[f].poses[b].orientation.coeffs(),
+                  full.frames[f].poses[b].orientation.coeffs());
+      }
+      ASSERT_EQ(run.frames[f].joint_error, full.frames[f].joint_error);
+      ASSERT_EQ(run.frames[f].kinetic_energy, full.frames[f].kinetic_energy);
+    }
+  }
+  EXPECT_GE(read_back, 6);
+  EXPECT_GT(longest, 1u);
+  std::printf(
+      "killed runs read back: %d of 12 (%d ended part-way through a frame), up to %zu of "
+      "%zu frames\n",
+      read_back, truncated, longest, full.frames.size());
+}

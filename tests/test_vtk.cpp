@@ -217,13 +217,13 @@ fs::path makeRun(const fs::path& dir, int steps = 50, int every = 10) {
   const linx::Scene scene = linx::parseScene(kScene, "vtk-test.json");
   linx::World world = linx::buildWorld(scene);
   linx::Recorder recorder(dir, linx::RecorderOptions{.contacts = true});
-  recorder.addFile("scene.json", linx::runSceneJson(scene, world, every));
+  recorder.writeFile("scene.json", linx::runSceneJson(scene, world, every));
   recorder.record(world);
   for (int step = 1; step <= steps; ++step) {
     world.step();
     if (step % every == 0) recorder.record(world);
   }
-  recorder.commit();
+  recorder.finish();
   return dir;
 }
 

@@ -12,21 +12,24 @@
 #include "plot_command.hpp"
 #include "progress.hpp"
 #include "render_command.hpp"
+#include "stop_signals.hpp"
 #include "view_command.hpp"
 #include "viz/run.hpp"
 #include "viz/vtk.hpp"
 
 #include <linx/linx.hpp>
+#include <linx/run_files.hpp>
 
 #include <fmt/format.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -48,12 +51,6 @@ using linx::cli::kExitNonFinite;
 
 // Runs longer than this are refused: step numbers and times stay exact in a double.
 constexpr double kMaxSteps = 1e15;
-
-volatile std::sig_atomic_t g_signal = 0;
-
-extern "C" void onSignal(int signal) {
-  g_signal = signal;
-}
 
 struct RunOptions {
   std::string scene;
@@ -186,6 +183,11 @@ void reportBreaks(const linx::World& world, std::size_t& reported,
   }
 }
 
+// "output kept up to t = T in DIR": what a run that stopped early leaves.
+std::string keptOutput(const RunOptions& options, double last_frame_time) {
+  return fmt::format("output kept up to t = {} s in {}", last_frame_time, options.out);
+}
+
 int run(const RunOptions& options) {
   if (options.every < 1) {
     throw BadInput(fmt::format("--every: must be at least 1, got {}", options.every));
@@ -196,45 +198,61 @@ int run(const RunOptions& options) {
   }
   Prepared p = prepare(options);
   linx::World& world = p.world;
-
-  // Interrupting a run removes its partial output.
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  const linx::cli::StopSignals stop_signals;
 
   bool breakable = false;
   for (const linx::SceneJoint& j : p.scene.joints)
     breakable = breakable || j.def.break_force || j.def.break_torque;
+  // Replaces an earlier run in the folder; every frame is on disk once recorded
+  // (docs/reliability.md), so a run stopped at any point keeps what it recorded.
   linx::Recorder recorder(options.out,
                           linx::RecorderOptions{.contacts = options.contacts, .breaks = breakable});
-  recorder.addFile("scene.json", linx::runSceneJson(p.scene, world, options.every));
   recorder.record(world);
-  std::int64_t frames = 1;
+  recorder.writeFile(std::string(linx::run_files::kScene.name),
+                     linx::runSceneJson(p.scene, world, options.every));
+  std::int64_t frames = 1, step = 0;
+  double last_frame_time = world.time();
   std::size_t breaks_reported = 0;
   linx::cli::ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr, p.steps,
                                   p.scene.duration);
-  for (std::int64_t step = 1; step <= p.steps; ++step) {
+  // A step that runs on for a second after SIGINT or SIGTERM (a huge dense solve) is not waited
+  // for: the frames recorded are already whole on disk.
+  linx::cli::StopWatchdog watchdog(std::chrono::seconds(1), [&] {
+    fmt::print(stderr,
+               "linx: {}: interrupted inside step {}, still running 1 s after the signal; {}\n",
+               options.scene, step, keptOutput(options, last_frame_time));
+    std::_Exit(kExitInterrupted);
+  });
+  const auto recordFrame = [&] {
+    recorder.record(world);
+    last_frame_time = world.time();
+    ++frames;
+  };
+  for (step = 1; step <= p.steps; ++step) {
     try {
+      const linx::cli::StopWatchdog::Busy busy(watchdog);
       world.step();
     } catch (const linx::StepFault& e) {  // a non-finite state or an energy blow-up
       progress.clear();
-      fmt::print(stderr, "linx: {}: {}; nothing written\n", options.scene, e.what());
+      recorder.finish();
+      fmt::print(stderr, "linx: {}: {}; {}\n", options.scene, e.what(),
+                 keptOutput(options, last_frame_time));
       return kExitNonFinite;
     }
     reportBreaks(world, breaks_reported, progress);
-    if (step % options.every == 0 || step == p.steps) {
-      recorder.record(world);
-      ++frames;
-    }
-    if (g_signal) {
+    if (step % options.every == 0 || step == p.steps || linx::cli::StopSignals::received())
+      recordFrame();
+    if (linx::cli::StopSignals::received()) {
       progress.clear();
-      fmt::print(stderr, "linx: {}: interrupted at step {} (t = {} s); nothing written\n",
-                 options.scene, step, world.time());
+      recorder.finish();
+      fmt::print(stderr, "linx: {}: interrupted at step {} (t = {} s); {}\n", options.scene, step,
+                 world.time(), keptOutput(options, last_frame_time));
       return kExitInterrupted;
     }
     progress.update(step, world.time());
   }
   progress.clear();
-  recorder.commit();
+  recorder.finish();
   fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n",
              4 + int{options.contacts} + int{breakable}, options.out, frames, p.steps,
              world.time());

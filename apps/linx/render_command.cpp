@@ -5,6 +5,7 @@
 #include "cli_common.hpp"
 #include "process.hpp"
 #include "progress.hpp"
+#include "stop_signals.hpp"
 #include "viz/camera.hpp"
 #include "viz/povray.hpp"
 #include "viz/run.hpp"
@@ -16,7 +17,6 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -37,37 +37,6 @@ namespace {
 constexpr int kMinSize = 16, kMaxSize = 8192;
 constexpr double kMaxFps = 1000;
 constexpr int kMaxJobs = 1024;
-
-volatile std::sig_atomic_t g_render_signal = 0;
-
-extern "C" void onRenderSignal(int signal) {
-  g_render_signal = signal;
-}
-
-// Catches SIGINT and SIGTERM while it lives, and restores the previous handlers. Without
-// SA_RESTART, so that the 20 ms sleeps of the waiting loops end at once on a signal.
-class SignalGuard {
- public:
-  SignalGuard() {
-    g_render_signal = 0;
-    struct sigaction action {};
-    action.sa_handler = onRenderSignal;
-    sigemptyset(&action.sa_mask);
-    action.sa_flags = 0;
-    sigaction(SIGINT, &action, &old_int_);
-    sigaction(SIGTERM, &action, &old_term_);
-  }
-  ~SignalGuard() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  SignalGuard(const SignalGuard&) = delete;
-  SignalGuard& operator=(const SignalGuard&) = delete;
-
- private:
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
 
 void appendFile(const fs::path& to, const fs::path& from, const std::string& heading) {
   std::ofstream out(to, std::ios::binary | std::ios::app);
@@ -125,7 +94,7 @@ void runJobs(const std::string& povray, const std::vector<Job>& jobs, const fs::
 
   progress.update(0);
   while (next < jobs.size() || !running.empty()) {
-    while (!g_render_signal && failure.empty() && next < jobs.size() &&
+    while (!StopSignals::received() && failure.empty() && next < jobs.size() &&
            running.size() < static_cast<std::size_t>(parallel)) {
       const Job& job = jobs[next];
       std::vector<std::string> args{
@@ -153,7 +122,7 @@ void runJobs(const std::string& povray, const std::vector<Job>& jobs, const fs::
       }
       ++next;
     }
-    if (g_render_signal) {
+    if (StopSignals::received()) {
       stopAll();
       throw Interrupted{};
     }
@@ -176,7 +145,7 @@ void runJobs(const std::string& povray, const std::vector<Job>& jobs, const fs::
     const Job& job = jobs[it->second];
     running.erase(it);
     std::error_code ec;
-    if (g_render_signal) {  // the terminal's Ctrl-C also reached povray
+    if (StopSignals::received()) {  // the terminal's Ctrl-C also reached povray
       fs::remove(job.part, ec);
       fs::remove(job.log, ec);
       stopAll();
@@ -248,14 +217,14 @@ void makeVideo(const std::string& ffmpeg, const fs::path& folder, const fs::path
       throw;
     }
     if (done) break;
-    if (g_render_signal) {
+    if (StopSignals::received()) {
       stopChildren({pid});
       fs::remove(part, ec);
       throw Interrupted{};
     }
     sleepFor(std::chrono::milliseconds(20));
   }
-  if (g_render_signal) {  // the terminal's Ctrl-C also reached ffmpeg
+  if (StopSignals::received()) {  // the terminal's Ctrl-C also reached ffmpeg
     fs::remove(part, ec);
     throw Interrupted{};
   }
@@ -395,7 +364,7 @@ int render(const RenderOptions& options) {
   const int parallel = std::max(1, std::min(jobs_flag, static_cast<int>(jobs.size())));
   const int threads_each = std::max(1, jobs_flag / parallel);
 
-  SignalGuard signals;
+  const StopSignals stop_signals;
   {
     ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr,
                          static_cast<std::int64_t>(jobs.size()), std::string("frame"));

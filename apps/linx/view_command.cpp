@@ -1,12 +1,11 @@
 #include "view_command.hpp"
 
-#include <pthread.h>
 #include <sys/socket.h>
 
 #include <array>
 #include <atomic>
 #include <cerrno>
-#include <csignal>
+#include <chrono>
 #include <cstddef>
 #include <cstdio>
 #include <ctime>
@@ -23,7 +22,11 @@
 #include <fmt/format.h>
 
 #include "cli_common.hpp"
+#include "process.hpp"
+#include "stop_signals.hpp"
 #include "viz/run.hpp"
+
+#include <linx/run_files.hpp>
 
 // Last: through <resolv.h> it defines the macro `_res`, which breaks Eigen included after it.
 #include <httplib.h>
@@ -36,9 +39,13 @@ extern const std::size_t kViewerPageSize;
 
 namespace {
 
-// The only files served from the run folder (docs/scene-format.md, "Outputs").
-constexpr std::array<std::string_view, 5> kRunFiles = {"scene.json", "bodies.csv", "joints.csv",
-                                                       "world.csv", "contacts.csv"};
+// Whether `name` is one of the files served from the run folder: those of the run file list that
+// are read back (docs/scene-format.md, "Outputs").
+bool servedRunFile(std::string_view name) {
+  for (const run_files::RunFile& f : run_files::kAll)
+    if (f.read_back && f.name == name) return true;
+  return false;
+}
 
 std::string jsonString(std::string_view s) {
   std::string out = "\"";
@@ -72,7 +79,9 @@ bool readFile(const std::filesystem::path& path, std::string& out) {
 // Which run files exist, and the folder's name: what the page fetches first.
 std::string manifest(const std::filesystem::path& dir) {
   std::string files;
-  for (const std::string_view name : kRunFiles) {
+  for (const run_files::RunFile& file : run_files::kAll) {
+    if (!file.read_back) continue;
+    const std::string_view name = file.name;
     std::error_code ec;
     if (!std::filesystem::is_regular_file(dir / name, ec)) continue;
     files += (files.empty() ? "" : ",") + jsonString(name);
@@ -139,12 +148,11 @@ int view(const ViewOptions& options) {
     reply(res, body->data(), body->size(), "application/json", body);
   });
   // The run's files by their fixed names only: the pattern admits no '/' and the name must be
-  // one of kRunFiles, so nothing outside DIR can be reached.
+  // one of the run files read back, so nothing outside DIR can be reached.
   server.Get(R"(/run/([a-z]+\.(?:json|csv)))", [&dir](const httplib::Request& req,
                                                       httplib::Response& res) {
     const std::string name = req.matches[1];
-    bool known = false;
-    for (const std::string_view f : kRunFiles) known = known || f == name;
+    const bool known = servedRunFile(name);
     auto body = std::make_shared<std::string>();
     if (!known || !readFile(dir / name, *body)) {
       res.status = 404;
@@ -163,15 +171,7 @@ int view(const ViewOptions& options) {
         fmt::format("--port: cannot listen on 127.0.0.1:{} (already in use?)", options.port));
   }
 
-  // SIGINT and SIGTERM are taken by this thread (sigtimedwait) rather than by a handler: block
-  // them before the server's threads start, so that they inherit the mask.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  sigset_t previous;
-  pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
-
+  const StopSignals stop_signals;
   std::atomic<bool> ended{false};
   bool listened = true;
   std::thread serving([&] {
@@ -184,17 +184,10 @@ int view(const ViewOptions& options) {
             << std::endl;
 
   int received = 0;
-  const timespec tick{0, 200'000'000};
-  while (!ended) {
-    const int s = sigtimedwait(&stop_signals, nullptr, &tick);
-    if (s == SIGINT || s == SIGTERM) {
-      received = s;
-      break;
-    }
-  }
+  while (!ended && (received = StopSignals::received()) == 0)
+    sleepFor(std::chrono::milliseconds(50));
   server.stop();
   serving.join();
-  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   if (!received && !listened) throw std::runtime_error("the viewer's server stopped unexpectedly");
   std::cerr << "linx view: stopped" << std::endl;
   return 0;

@@ -1,13 +1,20 @@
-// Writes a run's trajectory and reports as CSV files (see docs/scene-format.md, "Outputs"):
+// Writes a run's trajectory and reports as CSV files (see docs/scene-format.md, "Outputs", and
+// include/linx/run_files.hpp for the list):
 //   DIR/bodies.csv  time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz
-//   DIR/joints.csv  time,joint,coordinate,error,fx,fy,fz,tx,ty,tz
+//   DIR/joints.csv  time,joint,coordinate,error,fx,fy,fz,tx,ty,tz,coordinate2..coordinate6
 //   DIR/world.csv   time,kinetic_energy,potential_energy,total_energy,max_joint_error,
 //                   solver_iterations,residual
 //   DIR/contacts.csv time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse   (when asked for)
 //   DIR/breaks.csv  time,step,joint,fx,fy,fz,tx,ty,tz: each joint that broke (when asked for)
-// and any file added with addFile() (the run's scene.json).
-// Files are written under temporary names and renamed by commit(), so an interrupted or failed
-// run never leaves half a file under the final names.
+// and any file written with writeFile() (the run's scene.json).
+//
+// What survives (docs/reliability.md): every frame is handed to the operating system before
+// record() returns, so killing the process at any moment (SIGKILL included) leaves each file
+// complete up to its last frame but one at worst, where the last may end part-way (readers drop
+// it). Opening a recorder first removes an earlier run's files from DIR (only the names of the
+// run file list, scene.json first), so old and new files are never mixed. Nothing is ever removed
+// afterwards, and every file is reached through the folder opened at the start: if DIR is renamed
+// or replaced during the run, the run goes on writing into the folder it opened.
 #pragma once
 
 #include <linx/world.hpp>
@@ -26,26 +33,32 @@ struct RecorderOptions {
 
 class Recorder {
  public:
-  /// Creates DIR if needed and opens the temporary files. Throws std::runtime_error on failure.
+  /// Creates DIR if needed, removes an earlier run's files from it and creates the CSV files with
+  /// their headers. Throws std::runtime_error naming the file and the reason on failure.
   explicit Recorder(const std::filesystem::path& dir, const RecorderOptions& options = {});
-  ~Recorder();  ///< removes the temporary files unless commit() was called
+  ~Recorder();  ///< closes the files (what was recorded stays)
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;
 
-  /// Appends one row per body, one per joint and one for the world at the world's current time.
+  /// Appends one row per body, one per joint and one for the world at the world's current time,
+  /// and writes them out. Throws std::runtime_error naming the file on a write error (a full disk,
+  /// the file size limit).
   void record(const World& world);
-  /// Adds a file DIR/name with the given text, written and renamed with the others by commit()
-  /// (scene.json of a run). `name` is a plain file name.
-  void addFile(const std::string& name, std::string text);
-  /// Flushes and renames the files to their final names. Throws std::runtime_error on failure.
-  void commit();
+  /// Writes DIR/name with the given text, complete or not at all (a temporary file renamed into
+  /// place): the run's scene.json. `name` is a plain file name.
+  void writeFile(const std::string& name, const std::string& text);
+  /// Forces everything to the disk (fsync) and closes the files: the run survives a power loss
+  /// from here on. Throws std::runtime_error naming the file on failure.
+  void finish();
+
+  const std::filesystem::path& dir() const { return dir_; }
 
  private:
   struct Files;
   std::filesystem::path dir_;
   std::unique_ptr<Files> files_;
   std::size_t breaks_written_ = 0;
-  bool committed_ = false;
+  bool finished_ = false;
 };
 
 }  // namespace linx

@@ -1,21 +1,25 @@
-// CSV trajectory and report writer. Rows go to hidden temporary files (DIR/.bodies.csv.tmp, ...)
-// that commit() renames to their final names; without a commit the temporary files, and any
-// directory the recorder created, are removed. Numbers are written in the shortest form that reads
-// back to the same double (full precision).
+// CSV trajectory and report writer. The files are opened through a descriptor of the output folder
+// taken once (openat, unlinkat, renameat), so that the folder being renamed or replaced during a
+// run can never make the recorder write or delete elsewhere. Each frame is formatted into one
+// buffer per file and written with write(2) before record() returns. Numbers are written in the
+// shortest form that reads back to the same double (full precision).
 #include <linx/recorder.hpp>
+#include <linx/run_files.hpp>
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <array>
 #include <cerrno>
-#include <cstdio>
-#include <optional>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <system_error>
 #include <utility>
-#include <vector>
 
 namespace linx {
 
@@ -25,16 +29,9 @@ namespace {
 
 enum Output { kBodies, kJoints, kWorld, kContacts, kBreaks, kOutputCount };
 
-constexpr std::array<std::string_view, kOutputCount> kFileNames = {
-    "bodies.csv", "joints.csv", "world.csv", "contacts.csv", "breaks.csv"};
-constexpr std::array<std::string_view, kOutputCount> kHeaders = {
-    "time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz",
-    "time,joint,coordinate,error,fx,fy,fz,tx,ty,tz,coordinate2,coordinate3,coordinate4,coordinate5,"
-    "coordinate6",
-    "time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual",
-    "time,body1,body2,x,y,z,nx,ny,nz,depth,normal_impulse",
-    "time,step,joint,fx,fy,fz,tx,ty,tz",
-};
+constexpr std::array<run_files::RunFile, kOutputCount> kOutputs = {
+    run_files::kBodies, run_files::kJoints, run_files::kWorld, run_files::kContacts,
+    run_files::kBreaks};
 
 // A name as one CSV field: quoted when it holds a separator, a quote or a line break.
 std::string csvField(std::string_view text) {
@@ -52,70 +49,108 @@ std::runtime_error ioError(std::string_view what, const fs::path& path, int erro
       fmt::format("cannot {} {}: {}", what, path.string(), std::generic_category().message(error)));
 }
 
+// Writes all of `data` to `fd` (write(2) may write less than asked, or be interrupted).
+void writeAll(int fd, std::string_view data, const fs::path& path) {
+  while (!data.empty()) {
+    const ssize_t n = ::write(fd, data.data(), data.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw ioError("write", path, n < 0 ? errno : EIO);
+    data.remove_prefix(static_cast<std::size_t>(n));
+  }
+}
+
+// Removes the entry `name` of the folder `dir_fd`: a file or a link (never what a link points
+// to), or a folder with everything in it. A missing entry is fine.
+void removeEntry(int dir_fd, const char* name, const fs::path& shown) {
+  if (::unlinkat(dir_fd, name, 0) == 0 || errno == ENOENT) return;
+  if (errno != EISDIR && errno != EPERM) throw ioError("remove", shown, errno);
+  const int fd = ::openat(dir_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) throw ioError("open", shown, errno);
+  DIR* folder = ::fdopendir(fd);
+  if (!folder) {
+    const int error = errno;
+    ::close(fd);
+    throw ioError("read", shown, error);
+  }
+  try {
+    while (const dirent* entry = ::readdir(folder)) {
+      const std::string_view child = entry->d_name;
+      if (child == "." || child == "..") continue;
+      removeEntry(fd, entry->d_name, shown / child);
+    }
+  } catch (...) {
+    ::closedir(folder);
+    throw;
+  }
+  ::closedir(folder);
+  if (::unlinkat(dir_fd, name, AT_REMOVEDIR) != 0 && errno != ENOENT)
+    throw ioError("remove", shown, errno);
+}
+
 }  // namespace
 
 struct Recorder::Files {
-  std::array<std::FILE*, kOutputCount> file{};
-  std::array<fs::path, kOutputCount> temp;
-  std::vector<fs::path> created_dirs;                      // innermost first
-  std::vector<std::pair<std::string, std::string>> extra;  // addFile(): name, text
-  std::vector<fs::path> extra_temp;                        // their temporary files, once written
-  bool keep = false;
+  int dir_fd = -1;
+  std::array<int, kOutputCount> fd{-1, -1, -1, -1, -1};
+  std::array<std::string, kOutputCount> buffer;
 
-  // Closes the files; without a commit also deletes them and the directories created for them.
-  ~Files() {
-    for (std::FILE* f : file) {
-      if (f) std::fclose(f);
+  ~Files() { close(); }
+
+  void close() {
+    for (int& f : fd) {
+      if (f >= 0) ::close(f);
+      f = -1;
     }
-    if (keep) return;
-    std::error_code ignored;
-    for (const fs::path& p : temp)
-      if (!p.empty()) fs::remove(p, ignored);
-    for (const fs::path& p : extra_temp) fs::remove(p, ignored);
-    for (const fs::path& d : created_dirs) fs::remove(d, ignored);  // only removes empty ones
+    if (dir_fd >= 0) ::close(dir_fd);
+    dir_fd = -1;
   }
 };
 
 Recorder::Recorder(const fs::path& dir, const RecorderOptions& options)
     : dir_(dir), files_(std::make_unique<Files>()) {
-  // Note which directories are missing, so that a run without a commit leaves no trace.
   std::error_code ec;
-  for (fs::path d = fs::absolute(dir_, ec); !ec && !fs::exists(d, ec) && !ec; d = d.parent_path()) {
-    files_->created_dirs.push_back(d);
-    if (d == d.parent_path()) break;
-  }
   fs::create_directories(dir_, ec);
-  if (ec || !fs::is_directory(dir_)) {
-    throw ioError("create the output directory", dir_, ec ? ec.value() : ENOTDIR);
+  Files& f = *files_;
+  f.dir_fd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (f.dir_fd < 0) throw ioError("open the output folder", dir_, ec ? ec.value() : errno);
+
+  // An earlier run's files, scene.json first: a folder with a scene.json never mixes two runs.
+  for (const run_files::RunFile& file : run_files::kAll) {
+    std::string name(file.name);
+    if (name.back() == '/') name.pop_back();
+    removeEntry(f.dir_fd, name.c_str(), dir_ / name);
   }
   for (int i = 0; i < kOutputCount; ++i) {
     if ((i == kContacts && !options.contacts) || (i == kBreaks && !options.breaks)) continue;
-    files_->temp[i] = dir_ / fmt::format(".{}.tmp", kFileNames[i]);
-    files_->file[i] = std::fopen(files_->temp[i].c_str(), "wb");
-    if (!files_->file[i]) throw ioError("create", files_->temp[i], errno);
-    fmt::print(files_->file[i], "{}\n", kHeaders[i]);
+    const std::string name(kOutputs[i].name);
+    f.fd[i] = ::openat(f.dir_fd, name.c_str(),
+                       O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (f.fd[i] < 0) throw ioError("create", dir_ / name, errno);
+    writeAll(f.fd[i], fmt::format("{}\n", kOutputs[i].header), dir_ / name);
   }
 }
 
 Recorder::~Recorder() = default;
 
 void Recorder::record(const World& world) {
-  if (committed_) throw std::logic_error("Recorder::record after commit");
+  if (finished_) throw std::logic_error("Recorder::record after finish");
   const double t = world.time();
+  std::array<std::string, kOutputCount>& out = files_->buffer;
+  for (std::string& b : out) b.clear();
 
-  std::FILE* bodies = files_->file[kBodies];
+  auto bodies = std::back_inserter(out[kBodies]);
   for (int i = 0; i < world.bodyCount(); ++i) {
     const Body& b = world.body(BodyId{i});
     const Vec3& p = b.position();
     const Quat& q = b.orientation();
     const Vec3& v = b.linearVelocity();
     const Vec3& w = b.angularVelocity();
-    fmt::print(bodies, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", t, csvField(b.name()),
-               p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(), w.x(), w.y(),
-               w.z());
+    fmt::format_to(bodies, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", t, csvField(b.name()),
+                   p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(), w.x(),
+                   w.y(), w.z());
   }
 
-  std::FILE* joints = files_->file[kJoints];
+  auto joints = std::back_inserter(out[kJoints]);
   for (int i = 0; i < world.jointCount(); ++i) {
     const JointId id{i};
     // The first coordinate after the name; the others (of joints with several) at the end.
@@ -123,84 +158,85 @@ void Recorder::record(const World& world) {
     std::string coordinate[kMaxCoordinates];
     for (Eigen::Index k = 0; k < q.size(); ++k) coordinate[k] = fmt::format("{}", q[k]);
     const JointReaction r = world.jointReaction(id);
-    fmt::print(joints, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", t,
-               csvField(world.joint(id).name()), coordinate[0], world.jointError(id), r.force.x(),
-               r.force.y(), r.force.z(), r.torque.x(), r.torque.y(), r.torque.z(), coordinate[1],
-               coordinate[2], coordinate[3], coordinate[4], coordinate[5]);
+    fmt::format_to(joints, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", t,
+                   csvField(world.joint(id).name()), coordinate[0], world.jointError(id),
+                   r.force.x(), r.force.y(), r.force.z(), r.torque.x(), r.torque.y(), r.torque.z(),
+                   coordinate[1], coordinate[2], coordinate[3], coordinate[4], coordinate[5]);
   }
 
   const Energy e = world.energy();
   const SolverReport& report = world.lastReport();
-  fmt::print(files_->file[kWorld], "{},{},{},{},{},{},{}\n", t, e.kinetic, e.potential, e.total(),
-             world.maxJointError(), report.iterations, report.residual);
+  fmt::format_to(std::back_inserter(out[kWorld]), "{},{},{},{},{},{},{}\n", t, e.kinetic,
+                 e.potential, e.total(), world.maxJointError(), report.iterations, report.residual);
 
-  if (std::FILE* breaks = files_->file[kBreaks]) {
+  if (files_->fd[kBreaks] >= 0) {
     const auto all = world.jointBreaks();
     for (; breaks_written_ < all.size(); ++breaks_written_) {
       const JointBreak& b = all[breaks_written_];
       const JointReaction& r = b.reaction;
-      fmt::print(breaks, "{},{},{},{},{},{},{},{},{}\n", b.time, b.step,
-                 csvField(world.joint(b.joint).name()), r.force.x(), r.force.y(), r.force.z(),
-                 r.torque.x(), r.torque.y(), r.torque.z());
+      fmt::format_to(std::back_inserter(out[kBreaks]), "{},{},{},{},{},{},{},{},{}\n", b.time,
+                     b.step, csvField(world.joint(b.joint).name()), r.force.x(), r.force.y(),
+                     r.force.z(), r.torque.x(), r.torque.y(), r.torque.z());
     }
   }
 
-  if (std::FILE* contacts = files_->file[kContacts]) {
+  if (files_->fd[kContacts] >= 0) {
+    auto contacts = std::back_inserter(out[kContacts]);
     for (const Contact& c : world.contacts()) {
-      fmt::print(contacts, "{},{},{},{},{},{},{},{},{},{},{}\n", t,
-                 csvField(world.body(c.body1).name()), csvField(world.body(c.body2).name()),
-                 c.point.x(), c.point.y(), c.point.z(), c.normal.x(), c.normal.y(), c.normal.z(),
-                 c.depth, c.normal_impulse);
+      fmt::format_to(contacts, "{},{},{},{},{},{},{},{},{},{},{}\n", t,
+                     csvField(world.body(c.body1).name()), csvField(world.body(c.body2).name()),
+                     c.point.x(), c.point.y(), c.point.z(), c.normal.x(), c.normal.y(),
+                     c.normal.z(), c.depth, c.normal_impulse);
     }
+  }
+
+  for (int i = 0; i < kOutputCount; ++i) {
+    if (files_->fd[i] >= 0) writeAll(files_->fd[i], out[i], dir_ / kOutputs[i].name);
   }
 }
 
-void Recorder::addFile(const std::string& name, std::string text) {
-  if (committed_) throw std::logic_error("Recorder::addFile after commit");
+void Recorder::writeFile(const std::string& name, const std::string& text) {
+  if (finished_) throw std::logic_error("Recorder::writeFile after finish");
   if (name.empty() || name.find('/') != std::string::npos || name.front() == '.')
     throw std::invalid_argument(
-        fmt::format("Recorder::addFile: '{}' is not a plain file name", name));
-  files_->extra.emplace_back(name, std::move(text));
+        fmt::format("Recorder::writeFile: '{}' is not a plain file name", name));
+  const int dir_fd = files_->dir_fd;
+  const std::string temp = fmt::format(".{}.tmp", name);
+  const int fd =
+      ::openat(dir_fd, temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) throw ioError("create", dir_ / temp, errno);
+  try {
+    writeAll(fd, text, dir_ / name);
+  } catch (...) {
+    ::close(fd);
+    ::unlinkat(dir_fd, temp.c_str(), 0);
+    throw;
+  }
+  if (::close(fd) != 0) {
+    const int error = errno;
+    ::unlinkat(dir_fd, temp.c_str(), 0);
+    throw ioError("write", dir_ / name, error);
+  }
+  if (::renameat(dir_fd, temp.c_str(), dir_fd, name.c_str()) != 0) {
+    const int error = errno;
+    ::unlinkat(dir_fd, temp.c_str(), 0);
+    throw ioError("write", dir_ / name, error);
+  }
 }
 
-void Recorder::commit() {
-  if (committed_) return;
-  for (const auto& [name, text] : files_->extra) {
-    const fs::path temp = dir_ / fmt::format(".{}.tmp", name);
-    std::FILE* f = std::fopen(temp.c_str(), "wb");
-    if (!f) throw ioError("create", temp, errno);
-    files_->extra_temp.push_back(temp);
-    const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !written) throw ioError("write", temp, errno);
-  }
+void Recorder::finish() {
+  if (finished_) return;
+  finished_ = true;
+  Files& f = *files_;
   for (int i = 0; i < kOutputCount; ++i) {
-    std::FILE* f = std::exchange(files_->file[i], nullptr);
-    if (!f) continue;  // an output not asked for
-    const bool failed = std::ferror(f) != 0;
-    if (std::fclose(f) != 0 || failed) throw ioError("write", files_->temp[i], errno);
+    if (f.fd[i] < 0) continue;
+    const int fd = std::exchange(f.fd[i], -1);
+    int error = ::fsync(fd) == 0 ? 0 : errno;
+    if (::close(fd) != 0 && error == 0) error = errno;
+    if (error != 0) throw ioError("write", dir_ / kOutputs[i].name, error);
   }
-  for (int i = 0; i < kOutputCount; ++i) {
-    if (files_->temp[i].empty()) continue;
-    const fs::path final_path = dir_ / kFileNames[i];
-    std::error_code ec;
-    fs::rename(files_->temp[i], final_path, ec);
-    if (ec) throw ioError("rename to", final_path, ec.value());
-  }
-  for (std::size_t i = 0; i < files_->extra.size(); ++i) {
-    const fs::path final_path = dir_ / files_->extra[i].first;
-    std::error_code ec;
-    fs::rename(files_->extra_temp[i], final_path, ec);
-    if (ec) throw ioError("rename to", final_path, ec.value());
-  }
-  files_->extra_temp.clear();
-  // A contacts.csv or breaks.csv left by an earlier run would not belong to this one.
-  for (const Output optional : {kContacts, kBreaks}) {
-    if (!files_->temp[optional].empty()) continue;
-    std::error_code ec;
-    fs::remove(dir_ / kFileNames[optional], ec);
-  }
-  files_->keep = true;
-  committed_ = true;
+  ::fsync(f.dir_fd);  // the files' names; a failure here loses nothing a crash would not
+  f.close();
 }
 
 }  // namespace linx

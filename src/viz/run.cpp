@@ -3,15 +3,19 @@
 // new frame, and every file must list the same times in the same order.
 #include "viz/run.hpp"
 
+#include <linx/run_files.hpp>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
+#include <string_view>
 
 namespace linx::viz {
 
@@ -275,13 +279,24 @@ std::vector<Record> parseCsv(const std::string& text, const std::string& file) {
   return records;
 }
 
+// A CSV file's column names, from its header line.
+std::vector<std::string> columns(const run_files::RunFile& file) {
+  std::vector<std::string> names;
+  std::string_view rest = file.header;
+  for (std::size_t comma; (comma = rest.find(',')) != std::string_view::npos;
+       rest.remove_prefix(comma + 1))
+    names.emplace_back(rest.substr(0, comma));
+  names.emplace_back(rest);
+  return names;
+}
+
 class CsvFile {
  public:
   CsvFile(const fs::path& path, const std::vector<std::string>& header)
       : CsvFile(path, std::vector<std::vector<std::string>>{header}) {}
   // The first of `accepted` headers is the current one; the others, older files'.
   CsvFile(const fs::path& path, const std::vector<std::vector<std::string>>& accepted)
-      : file_(path.string()), records_(parseCsv(readText(path), file_)) {
+      : file_(path.string()), records_(parseCsv(completeLines(readText(path)), file_)) {
     const auto match = std::find_if(accepted.begin(), accepted.end(), [&](const auto& h) {
       return !records_.empty() && records_[0].fields == h;
     });
@@ -319,9 +334,21 @@ class CsvFile {
   }
 
   const std::string& file() const { return file_; }
+  /// The file ended part-way through a line (a run killed while writing), which was left out.
+  bool truncated() const { return truncated_; }
 
  private:
+  // The text up to its last line break: every line a recorder writes ends with one.
+  std::string completeLines(std::string text) {
+    const std::size_t end = text.rfind('\n');
+    const std::size_t keep = end == std::string::npos ? 0 : end + 1;
+    truncated_ = keep < text.size();
+    text.resize(keep);
+    return text;
+  }
+
   std::string file_;
+  bool truncated_ = false;  // set while records_ is initialized: declared before it
   std::vector<Record> records_;
 };
 
@@ -338,11 +365,11 @@ Run readRun(const fs::path& dir) {
   run.dir = dir;
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw RunError(dir.string(), "folder", "not a directory");
-  const std::string scene_file = (dir / "scene.json").string();
+  const fs::path scene_path = dir / run_files::kScene.name;
+  const std::string scene_file = scene_path.string();
   try {
     SceneJson(scene_file)
-        .read(readText(dir / "scene.json", "a run folder written by `linx run`; rerun the scene"),
-              run);
+        .read(readText(scene_path, "a run folder written by `linx run`; rerun the scene"), run);
   } catch (const json::exception& e) {  // a value of an unexpected type deep in the document
     throw RunError(scene_file, "document", e.what());
   }
@@ -350,14 +377,34 @@ Run readRun(const fs::path& dir) {
   std::map<std::string, int> body_index;
   for (std::size_t i = 0; i < nb; ++i) body_index[run.bodies[i].name] = static_cast<int>(i);
 
-  // bodies.csv: nb rows per frame, in body order.
-  const CsvFile bodies(dir / "bodies.csv", {"time", "body", "x", "y", "z", "qw", "qx", "qy", "qz",
-                                            "vx", "vy", "vz", "wx", "wy", "wz"});
-  if (nb == 0 || bodies.rows() % nb != 0 || bodies.rows() == 0)
-    throw RunError(
-        bodies.file(), "rows",
-        fmt::format("{} rows is not a whole number of frames of {} bodies", bodies.rows(), nb));
-  const std::size_t frames = bodies.rows() / nb;
+  // The three tables of frames. A run killed while it wrote them ends part-way through a frame
+  // (bodies.csv, joints.csv and world.csv are written in that order, a frame at a time): the
+  // frames every file holds in full are read, and the rest is left out (Run::truncated).
+  const CsvFile bodies(dir / run_files::kBodies.name, columns(run_files::kBodies));
+  // With the joints' reactions (fx ... tz) and further coordinates, or without them as runs before
+  // they were written.
+  const CsvFile joints(dir / run_files::kJoints.name, {columns(run_files::kJoints),
+                                                       {"time", "joint", "coordinate", "error",
+                                                        "fx", "fy", "fz", "tx", "ty", "tz"},
+                                                       {"time", "joint", "coordinate", "error"}});
+  const CsvFile world(dir / run_files::kWorld.name, columns(run_files::kWorld));
+  if (nb == 0) throw RunError(scene_file, "bodies", "no bodies");
+  const std::size_t frames =
+      std::min({bodies.rows() / nb, nj > 0 ? joints.rows() / nj : bodies.rows(), world.rows()});
+  if (frames == 0) throw RunError(bodies.file(), "rows", "no complete frame");
+  // One frame more in an earlier-written file, and part of one, is as far as a kill can leave
+  // the files apart; anything else is a damaged folder.
+  const auto check = [&](const CsvFile& file, std::size_t rows_per_frame, const char* what) {
+    const std::size_t rows = file.rows();
+    if (rows < frames * rows_per_frame || rows >= (frames + 2) * rows_per_frame)
+      throw RunError(
+          file.file(), "rows",
+          fmt::format("{} rows is not {} frames of {} {}", rows, frames, rows_per_frame, what));
+    run.truncated = run.truncated || rows > frames * rows_per_frame || file.truncated();
+  };
+  check(bodies, nb, nb == 1 ? "body" : "bodies");
+  if (nj > 0) check(joints, nj, nj == 1 ? "joint" : "joints");
+  check(world, 1, "row");
   run.frames.resize(frames);
   for (std::size_t f = 0; f < frames; ++f) {
     Frame& frame = run.frames[f];
@@ -386,18 +433,6 @@ Run readRun(const fs::path& dir) {
   }
 
   // joints.csv: nj rows per frame.
-  // With the joints' reactions (fx ... tz) and further coordinates, or without them as runs before
-  // they were written.
-  const CsvFile joints(
-      dir / "joints.csv",
-      {{"time", "joint", "coordinate", "error", "fx", "fy", "fz", "tx", "ty", "tz", "coordinate2",
-        "coordinate3", "coordinate4", "coordinate5", "coordinate6"},
-       {"time", "joint", "coordinate", "error", "fx", "fy", "fz", "tx", "ty", "tz"},
-       {"time", "joint", "coordinate", "error"}});
-  if (joints.rows() != frames * nj)
-    throw RunError(joints.file(), "rows",
-                   fmt::format("expected {} rows ({} frames of {} joints), got {}", frames * nj,
-                               frames, nj, joints.rows()));
   for (std::size_t f = 0; f < frames; ++f) {
     Frame& frame = run.frames[f];
     frame.joint_coordinate.resize(nj);
@@ -414,12 +449,6 @@ Run readRun(const fs::path& dir) {
   }
 
   // world.csv: one row per frame.
-  const CsvFile world(dir / "world.csv",
-                      {"time", "kinetic_energy", "potential_energy", "total_energy",
-                       "max_joint_error", "solver_iterations", "residual"});
-  if (world.rows() != frames)
-    throw RunError(world.file(), "rows",
-                   fmt::format("expected {} rows (one per frame), got {}", frames, world.rows()));
   for (std::size_t f = 0; f < frames; ++f) {
     Frame& frame = run.frames[f];
     if (world.number(f, 0) != frame.time)
@@ -435,13 +464,15 @@ Run readRun(const fs::path& dir) {
   }
 
   // contacts.csv (optional): any number of rows per frame, frames in time order.
-  if (fs::exists(dir / "contacts.csv", ec)) {
+  const fs::path contacts_path = dir / run_files::kContacts.name;
+  if (fs::exists(contacts_path, ec)) {
     run.has_contacts = true;
-    const CsvFile contacts(dir / "contacts.csv", {"time", "body1", "body2", "x", "y", "z", "nx",
-                                                  "ny", "nz", "depth", "normal_impulse"});
+    const CsvFile contacts(contacts_path, columns(run_files::kContacts));
+    run.truncated = run.truncated || contacts.truncated();
     std::size_t f = 0;
     for (std::size_t r = 0; r < contacts.rows(); ++r) {
       const double t = contacts.number(r, 0);
+      if (t > run.frames.back().time && run.truncated) break;  // a frame the others lack
       while (f < frames && run.frames[f].time < t) ++f;
       if (f == frames || run.frames[f].time != t)
         contacts.fail(r, fmt::format("time {} is not a frame of bodies.csv (or out of order)", t));

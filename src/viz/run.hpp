@@ -67,10 +67,14 @@ struct Run {
   std::vector<RunJoint> joints;
   std::vector<Frame> frames;
   bool has_contacts = false;
+  /// The files ended part-way through a frame (a run killed while writing it): the frames every
+  /// file holds in full were read, the rest left out.
+  bool truncated = false;
 };
 
-/// Reads a `linx run` output folder. Throws RunError naming the file, the field or line, and the
-/// problem (a missing scene.json says to rerun with a linx that writes it).
+/// Reads a `linx run` output folder, also one whose run was killed or stopped part-way (the
+/// complete frames). Throws RunError naming the file, the field or line, and the problem (a
+/// missing scene.json says to rerun with a linx that writes it).
 Run readRun(const std::filesystem::path& dir);
 
 /// World position of a point given in body `body`'s frame (the world frame for -1) at `frame`.
