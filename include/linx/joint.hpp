@@ -20,6 +20,10 @@
 
 namespace linx {
 
+namespace state {
+class Archive;
+}
+
 /// A joint of a World: its slot and the slot's generation (as BodyId).
 struct JointId {
   int index = -1;
@@ -278,6 +282,13 @@ class Joint {
   /// bodies back together (a sleeping island notices at World::wake).
   bool enabled() const { return enabled_; }
   void setEnabled(bool enabled) { enabled_ = enabled; }
+  /// Reads or writes what the joint carries from step to step (World::saveState): whether it is
+  /// enabled, and what track() follows.
+  void persist(state::Archive& archive);
+
+ protected:
+  /// What track() follows (the branch a hinge's angle unwraps onto); nothing by default.
+  virtual void persistTracked(state::Archive& /*archive*/) {}
 
  private:
   friend std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def,

@@ -9,6 +9,7 @@
 #include <linx/solver.hpp>
 #include <linx/types.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -20,6 +21,10 @@
 #include <vector>
 
 namespace linx {
+
+namespace state {
+class Archive;
+}
 
 /// A fault found by World::step() that makes its results meaningless: the run must stop. The
 /// world keeps the state in which the fault was found.
@@ -99,6 +104,13 @@ struct JointBreak {
   std::int64_t step = 0;   ///< the step it broke in (1: the first step)
   double time = 0.0;       ///< (s) at the end of that step
   JointReaction reaction;  ///< what it applied to its body1 over that step (World::jointReaction)
+};
+
+/// A world's state between two steps (World::saveState): everything that carries from one step to
+/// the next, in a binary form tied to this build's byte order and to the world's structure (its
+/// bodies, joints and loads), not to the world object. docs/reliability.md lists what it holds.
+struct WorldState {
+  std::vector<std::byte> bytes;
 };
 
 /// Energies of the whole world (J). Potential energy is gravitational, zero at the origin.
@@ -184,6 +196,16 @@ class World {
   /// The contact points of the last step, with their impulses.
   std::span<const Contact> contacts() const;
 
+  /// The whole state between steps: bodies' poses, velocities and sleep, the step counter and
+  /// clock, joints' tracked turns and enabled flags, warm-start impulses, contact caches, the
+  /// solvers' carried impulses and the fault check's sums. restoreState() on this world or on
+  /// another built the same way (same bodies, joints and loads, in the same order) continues
+  /// exactly as this one would: bit-identical steps.
+  WorldState saveState() const;
+  /// Puts the world in a state saveState() returned. Throws std::invalid_argument when the state
+  /// is of a world with other bodies, joints or loads, or is damaged; the world is then unchanged.
+  void restoreState(const WorldState& state);
+
   /// Advances by settings().timestep. Throws NonFiniteState when the state stops being finite,
   /// EnergyGrowth when undriven steps make energy beyond settings().faults.
   void step();
@@ -218,6 +240,8 @@ class World {
 
  private:
   struct Impl;
+  /// Reads or writes (state::Archive::loading) the state saveState() holds (world_state.cpp).
+  void persist(state::Archive& archive);
   /// Disables the joints whose reaction over the last step passed their break thresholds.
   void breakOverloadedJoints();
 

@@ -14,6 +14,8 @@
 // Coordinates: twist (free), swing theta (reported).
 #include "joints/cone_twist_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -37,6 +39,10 @@ JointCoordinates ConeTwistJoint::coordinates(const BodyState& b1, const BodyStat
 
 void ConeTwistJoint::track(const BodyState& b1, const BodyState& b2) {
   last_twist_ = twist(b1, b2);
+}
+
+void ConeTwistJoint::persistTracked(state::Archive& a) {
+  a(last_twist_);
 }
 
 void ConeTwistJoint::coneRow(const BodyState& b1, const BodyState& b2, Row& row) const {

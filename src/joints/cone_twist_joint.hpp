@@ -13,6 +13,9 @@ class ConeTwistJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   double twist(const BodyState& b1, const BodyState& b2) const;
   /// The cone row: C = swing - its bound in the swing's direction (<= 0 inside), exact J.

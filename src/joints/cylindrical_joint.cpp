@@ -11,6 +11,8 @@
 //   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/cylindrical_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 namespace linx::joints {
 
 CylindricalJoint::CylindricalJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
@@ -27,6 +29,10 @@ JointCoordinates CylindricalJoint::coordinates(const BodyState& b1, const BodySt
 
 void CylindricalJoint::track(const BodyState& b1, const BodyState& b2) {
   last_angle_ = angle(b1, b2);
+}
+
+void CylindricalJoint::persistTracked(state::Archive& a) {
+  a(last_angle_);
 }
 
 int CylindricalJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

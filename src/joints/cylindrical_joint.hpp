@@ -13,6 +13,9 @@ class CylindricalJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   double angle(const BodyState& b1, const BodyState& b2) const;
 

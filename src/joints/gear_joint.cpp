@@ -9,6 +9,8 @@
 // Coordinates (reported, not driven): theta1, theta2.
 #include "joints/gear_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 #include "math/rotation.hpp"
 
 namespace linx::joints {
@@ -39,6 +41,10 @@ JointCoordinates GearJoint::coordinates(const BodyState& b1, const BodyState& b2
 
 void GearJoint::track(const BodyState& b1, const BodyState& b2) {
   last_ = angles(b1, b2);
+}
+
+void GearJoint::persistTracked(state::Archive& a) {
+  a(last_);
 }
 
 int GearJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

@@ -13,6 +13,9 @@ class GearJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   /// Each body's turn about its axis since creation, unwrapped, and its rate's direction.
   Eigen::Vector2d angles(const BodyState& b1, const BodyState& b2, Vec3* rate1 = nullptr,

@@ -11,6 +11,8 @@
 // ry = +-pi/2 (gimbal lock): a free ry must stay away from it; rx and rz count turns.
 #include "joints/generic_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 #include "math/rotation.hpp"
 
 #include <cmath>
@@ -62,6 +64,10 @@ JointCoordinates GenericJoint::coordinates(const BodyState& b1, const BodyState&
 
 void GenericJoint::track(const BodyState& b1, const BodyState& b2) {
   last_ = angles(b1, b2);
+}
+
+void GenericJoint::persistTracked(state::Archive& a) {
+  a(last_);
 }
 
 int GenericJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

@@ -13,6 +13,9 @@ class GenericJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   /// The three angles (rx, ry, rz), unwrapped, and the world-frame rows whose J u are their rates.
   Vec3 angles(const BodyState& b1, const BodyState& b2, Mat3* rates = nullptr) const;

@@ -12,6 +12,8 @@
 //   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/hinge2_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 namespace linx::joints {
 
 namespace {
@@ -38,6 +40,10 @@ JointCoordinates Hinge2Joint::coordinates(const BodyState& b1, const BodyState& 
 
 void Hinge2Joint::track(const BodyState& b1, const BodyState& b2) {
   last_ = angles(b1, b2);
+}
+
+void Hinge2Joint::persistTracked(state::Archive& a) {
+  a(last_);
 }
 
 int Hinge2Joint::fill(const JointContext& ctx, std::span<Row> rows) const {

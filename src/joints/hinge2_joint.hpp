@@ -13,6 +13,9 @@ class Hinge2Joint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   Eigen::Vector2d angles(const BodyState& b1, const BodyState& b2) const;
 

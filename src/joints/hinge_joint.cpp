@@ -8,6 +8,8 @@
 //   limits, motor, spring, friction on theta: joints/row_parts.hpp, coordinateRows
 #include "joints/hinge_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 #include <cmath>
 
 namespace linx::joints {
@@ -31,6 +33,10 @@ bool HingeJoint::coordinateRow(const JointContext& ctx, int index, Row& row) con
 
 void HingeJoint::track(const BodyState& b1, const BodyState& b2) {
   last_angle_ = angle(b1, b2);
+}
+
+void HingeJoint::persistTracked(state::Archive& a) {
+  a(last_angle_);
 }
 
 int HingeJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

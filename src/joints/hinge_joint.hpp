@@ -16,6 +16,9 @@ class HingeJoint final : public Joint {
   bool coordinateRow(const JointContext& ctx, int index, Row& row) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   double angle(const BodyState& b1, const BodyState& b2) const;
 

@@ -1,5 +1,7 @@
 #include <linx/joint.hpp>
 
+#include "world/state_archive.hpp"
+
 #include "joints/row_parts.hpp"
 #include "joints/validation.hpp"
 #include "math/rotation.hpp"
@@ -137,6 +139,11 @@ Mat12 Joint::stiffness(const JointContext& ctx, std::span<const Row> rows,
     k.col(c) = (f_plus - force(fillAt(minus), own, lambda)) / (2.0 * kDelta);
   }
   return k;
+}
+
+void Joint::persist(state::Archive& a) {
+  a(enabled_);
+  persistTracked(a);
 }
 
 }  // namespace linx

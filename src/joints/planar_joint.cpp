@@ -9,6 +9,8 @@
 //   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/planar_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -41,6 +43,10 @@ JointCoordinates PlanarJoint::coordinates(const BodyState& b1, const BodyState& 
 
 void PlanarJoint::track(const BodyState& b1, const BodyState& b2) {
   last_angle_ = angle(b1, b2);
+}
+
+void PlanarJoint::persistTracked(state::Archive& a) {
+  a(last_angle_);
 }
 
 int PlanarJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

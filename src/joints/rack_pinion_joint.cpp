@@ -10,6 +10,8 @@
 // Coordinates (reported, not driven): theta1 (rad), s2 (m).
 #include "joints/rack_pinion_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 #include "math/rotation.hpp"
 
 #include <stdexcept>
@@ -43,6 +45,10 @@ JointCoordinates RackPinionJoint::coordinates(const BodyState& b1, const BodySta
 
 void RackPinionJoint::track(const BodyState& b1, const BodyState& b2) {
   last_ = travel(b1, b2)[0];
+}
+
+void RackPinionJoint::persistTracked(state::Archive& a) {
+  a(last_);
 }
 
 int RackPinionJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

@@ -13,6 +13,9 @@ class RackPinionJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   /// The pinion's turn about its axle since creation, unwrapped, and the rack's travel along its
   /// direction; `rate1`: the direction of the turn's rate.

@@ -21,6 +21,8 @@
 // axes that come into line (a gimbal lock) leave the joint singular there.
 #include "joints/serial_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 #include "math/rotation.hpp"
 
 #include <fmt/format.h>
@@ -211,6 +213,11 @@ void SerialJoint::track(const BodyState& b1, const BodyState& b2) {
   const Fit f = fit(b1, b2);
   held_ = turned(held(f, b1), b1.pose.orientation.conjugate());
   last_ = f.q;
+}
+
+void SerialJoint::persistTracked(state::Archive& a) {
+  a(last_);
+  a(held_);
 }
 
 int SerialJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

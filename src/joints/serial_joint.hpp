@@ -18,6 +18,10 @@ class SerialJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
+ public:
   /// One hinge or slide, in body 1's frame at creation.
   struct Axis {
     bool linear = false;

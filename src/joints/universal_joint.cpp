@@ -11,6 +11,8 @@
 //   limits, motor, spring, friction on each: joints/row_parts.hpp, coordinateRows
 #include "joints/universal_joint.hpp"
 
+#include "world/state_archive.hpp"
+
 namespace linx::joints {
 
 UniversalJoint::UniversalJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
@@ -29,6 +31,10 @@ JointCoordinates UniversalJoint::coordinates(const BodyState& b1, const BodyStat
 
 void UniversalJoint::track(const BodyState& b1, const BodyState& b2) {
   last_ = angles(b1, b2);
+}
+
+void UniversalJoint::persistTracked(state::Archive& a) {
+  a(last_);
 }
 
 int UniversalJoint::fill(const JointContext& ctx, std::span<Row> rows) const {

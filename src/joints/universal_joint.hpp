@@ -15,6 +15,9 @@ class UniversalJoint final : public Joint {
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
   void track(const BodyState& b1, const BodyState& b2) override;
 
+ protected:
+  void persistTracked(state::Archive& archive) override;
+
  private:
   Eigen::Vector2d angles(const BodyState& b1, const BodyState& b2) const;
 

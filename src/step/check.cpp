@@ -1,6 +1,7 @@
 #include "step/check.hpp"
 
 #include "dynamics/energy.hpp"
+#include "world/state_archive.hpp"
 
 #include <fmt/format.h>
 
@@ -86,6 +87,12 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
           "timestep or more solver.substeps help; docs/solver.md)",
           rise, bound, step, time, body),
       fastest, step, time, rise, bound);
+}
+
+void FaultCheck::persist(state::Archive& a) {
+  a(produced_);
+  a(lowest_);
+  a(kinetic_peak_);
 }
 
 }  // namespace linx::step

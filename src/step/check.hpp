@@ -10,6 +10,10 @@
 #include <cstdint>
 #include <span>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 class FaultCheck {
@@ -21,6 +25,8 @@ class FaultCheck {
   /// most kinetic energy.
   void end(std::span<const Body> bodies, const Vec3& gravity, const FaultSettings& settings,
            bool motors, std::int64_t step, double time);
+  /// Reads or writes the sums carried from step to step (World::saveState).
+  void persist(state::Archive& archive);
 
  private:
   double before_ = 0.0;        // (J) total energy at the start of the step

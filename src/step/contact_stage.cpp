@@ -1,5 +1,7 @@
 #include "step/contact_stage.hpp"
 
+#include "world/state_archive.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -432,6 +434,34 @@ void ContactStage::store(std::span<const Body> bodies, std::span<const double> l
                                  shown.friction,
                                  r.point.feature};
       });
+}
+
+namespace {
+
+void persistRecord(state::Archive& a, ContactRecord& r) {
+  a.fields(r.body_a, r.body_b, r.shape_a, r.shape_b, r.point.point, r.point.normal, r.point.depth,
+           r.point.feature, r.law.friction, r.law.restitution, r.law.erp, r.law.cfm, r.law.slop,
+           r.law.restitution_threshold, r.law.max_push_out, r.key, r.pair, r.t1, r.t2, r.row,
+           r.friction_row);
+}
+
+}  // namespace
+
+void ContactStage::persist(state::Archive& a) {
+  a.each(records_, persistRecord);
+  a.each(last_records_, persistRecord);
+  a.fields(resting_, detected_pose_, detected_still_, detected_h_, detected_);
+  ContactSettings& s = detected_settings_;
+  a.fields(s.enabled, s.margin, s.slop, s.erp, s.cfm, s.stiffness, s.damping,
+           s.restitution_threshold, s.max_push_out, s.hertz, s.damping_ratio);
+  a.each(contacts_, [](state::Archive& a, Contact& c) {
+    a.fields(c.body1.index, c.body1.generation, c.body2.index, c.body2.generation, c.shape1,
+             c.shape2, c.point, c.normal, c.depth, c.normal_impulse, c.friction_impulse, c.feature);
+  });
+  a.each(previous_, [](state::Archive& a, Previous& p) {
+    a.fields(p.pair, p.key, p.local, p.impulse.normal, p.impulse.friction);
+  });
+  a.fields(stored_, match_distance_);
 }
 
 }  // namespace linx::step

@@ -24,6 +24,10 @@
 #include "joints/contact_joint.hpp"
 #include "parallel/task_output.hpp"
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 /// One contact point of this step between body a's shape and body b's shape.
@@ -71,6 +75,10 @@ class ContactStage {
   /// Appends the bodies that touched `body` in the last step.
   void touching(int body, std::vector<int>& out) const;
   std::span<const Contact> contacts() const { return contacts_; }
+
+  /// Reads or writes what carries to the next step (World::saveState): the last step's records
+  /// and contacts, what its detect saw of resting bodies, and the impulses kept for warm starts.
+  void persist(state::Archive& archive);
 
  private:
   struct Impulse {

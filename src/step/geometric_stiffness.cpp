@@ -1,5 +1,7 @@
 #include "step/geometric_stiffness.hpp"
 
+#include "world/state_archive.hpp"
+
 #include "step/assembly.hpp"
 
 #include <algorithm>
@@ -73,6 +75,10 @@ double GeometricStiffness::ownShare(std::size_t i, const Body& body, const Vec3&
   const double own = w.dot(body.inertiaWorld() * w);
   const double total = own + w.dot(a.tail<3>().cwiseProduct(w));
   return total > 0.0 ? own / total : 1.0;
+}
+
+void GeometricStiffness::persist(state::Archive& a) {
+  a(measured_);
 }
 
 }  // namespace linx::step

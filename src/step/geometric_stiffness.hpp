@@ -23,6 +23,10 @@
 #include <span>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 class GeometricStiffness {
@@ -43,6 +47,9 @@ class GeometricStiffness {
   /// The body's own share of its stiffened inertia about the row direction w (1 when nothing is
   /// added).
   double ownShare(std::size_t i, const Body& body, const Vec3& w) const;
+
+  /// Reads or writes what carries to the next step (World::saveState).
+  void persist(state::Archive& archive);
 
  private:
   std::vector<Vec6> measured_;  // per body: added(), world axes

@@ -1,5 +1,7 @@
 #include "step/islands.hpp"
 
+#include "world/state_archive.hpp"
+
 #include <stdexcept>
 
 namespace linx::step {
@@ -87,6 +89,10 @@ void Islands::build(int body_count, std::span<const std::uint8_t> movable,
 
   bucketByIsland(island_of_, count_, body_start_, body_list_);
   bucketByIsland(link_island_, count_, link_start_, link_list_);
+}
+
+void Islands::persist(state::Archive& a) {
+  a.fields(count_, island_of_, link_island_, body_start_, body_list_, link_start_, link_list_);
 }
 
 }  // namespace linx::step

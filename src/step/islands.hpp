@@ -16,6 +16,10 @@
 #include <utility>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 /// Counting sort of items 0..n-1 by their island (island_of[k], -1 skipped): the items of island i
@@ -48,6 +52,10 @@ class Islands {
   int islandOf(int body) const { return island_of_[static_cast<std::size_t>(body)]; }
   /// Island of a link, -1 for a link with no movable end.
   int islandOfLink(int link) const { return link_island_[static_cast<std::size_t>(link)]; }
+
+  /// Reads or writes the last build's islands (World::saveState): what the step after a
+  /// restore, and the queries between steps, read before the next build.
+  void persist(state::Archive& archive);
 
  private:
   static std::span<const int> slice(const std::vector<int>& list, const std::vector<int>& start,

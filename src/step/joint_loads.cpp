@@ -1,5 +1,7 @@
 #include "step/joint_loads.hpp"
 
+#include "world/state_archive.hpp"
+
 namespace linx::step {
 
 void JointLoads::measure(std::span<const Row> rows, std::span<const double> lambda, double h,
@@ -23,6 +25,12 @@ void JointLoads::measure(std::span<const Row> rows, std::span<const double> lamb
     loads_[j].force += measured_[j].force;
     loads_[j].torque += measured_[j].torque - arm.cross(measured_[j].force);
   }
+}
+
+void JointLoads::persist(state::Archive& a) {
+  const auto reaction = [](state::Archive& a, JointReaction& r) { a.fields(r.force, r.torque); };
+  a.each(loads_, reaction);
+  a.each(measured_, reaction);
 }
 
 }  // namespace linx::step

@@ -11,6 +11,10 @@
 #include <span>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 class JointLoads {
@@ -31,6 +35,9 @@ class JointLoads {
   void forget(std::size_t joint) {
     if (joint < loads_.size()) loads_[joint] = JointReaction{};
   }
+
+  /// Reads or writes what carries to the next step (World::saveState).
+  void persist(state::Archive& archive);
 
  private:
   std::vector<JointReaction> loads_, measured_;

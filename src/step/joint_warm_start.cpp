@@ -1,5 +1,7 @@
 #include "step/joint_warm_start.hpp"
 
+#include "world/state_archive.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -45,6 +47,10 @@ void JointWarmStart::store(std::span<const Row> rows, std::span<const double> la
 void JointWarmStart::forget(std::size_t joint) {
   for (std::size_t k = 0; k < keys_.size(); ++k)
     if ((keys_[k] >> 8) == joint + 1) lambda_[k] = 0.0;
+}
+
+void JointWarmStart::persist(state::Archive& a) {
+  a.fields(keys_, lambda_, sorted_, sorted_ready_);
 }
 
 }  // namespace linx::step

@@ -15,6 +15,10 @@
 #include <utility>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 class JointWarmStart {
@@ -26,6 +30,9 @@ class JointWarmStart {
   /// Zeroes what was kept for joint `joint`'s rows (key (joint + 1) << 8 | slot): a removed
   /// joint's slot, which a new joint may take before the next store.
   void forget(std::size_t joint);
+
+  /// Reads or writes what carries to the next step (World::saveState).
+  void persist(state::Archive& archive);
 
  private:
   std::vector<std::uint64_t> keys_;  // the stored rows' keys, in their order

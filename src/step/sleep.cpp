@@ -1,5 +1,7 @@
 #include "step/sleep.hpp"
 
+#include "world/state_archive.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -63,6 +65,10 @@ void SleepTracker::update(const Islands& islands, std::span<const Body> bodies, 
     if (ready)
       for (const int b : members) asleep_[static_cast<std::size_t>(b)] = 1;
   }
+}
+
+void SleepTracker::persist(state::Archive& a) {
+  a.fields(timer_, asleep_, island_awake_);
 }
 
 }  // namespace linx::step

@@ -24,6 +24,10 @@
 #include <span>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 /// Rest timers and sleep flags of the bodies of a world.
@@ -60,6 +64,9 @@ class SleepTracker {
   /// per island), only flagged islands may fall asleep.
   void update(const Islands& islands, std::span<const Body> bodies, double h,
               const SleepSettings& settings, std::span<const std::uint8_t> may_sleep = {});
+
+  /// Reads or writes what carries to the next step (World::saveState).
+  void persist(state::Archive& archive);
 
  private:
   std::vector<double> timer_;

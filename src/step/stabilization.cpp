@@ -1,5 +1,7 @@
 #include "step/stabilization.hpp"
 
+#include "world/state_archive.hpp"
+
 #include "dynamics/integrator.hpp"
 #include "step/assembly.hpp"
 
@@ -189,6 +191,10 @@ double PostStabilization::run(std::span<const std::unique_ptr<Joint>> joints,
     displace(bodies, lambda_, still);
   }
   return err;
+}
+
+void PostStabilization::persist(state::Archive& a) {
+  a.fields(previous_, poses_, ends_since_remembered_);
 }
 
 }  // namespace linx::step

@@ -43,6 +43,10 @@
 #include <span>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 class PostStabilization {
@@ -75,6 +79,9 @@ class PostStabilization {
   double run(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
              const SolverSettings& settings, int iterations, std::span<const std::uint8_t> frozen,
              const GeometricStiffness& stiffness, double time);
+
+  /// Reads or writes what carries to the next step (World::saveState).
+  void persist(state::Archive& archive);
 
  private:
   /// The rows that carry a position error at the current poses, each made to remove all of it

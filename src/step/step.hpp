@@ -50,6 +50,10 @@
 #include <span>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 /// What a pass works on, lent by the world for the call.
@@ -93,6 +97,10 @@ struct State {
   solver::SoftSolver soft;
   std::vector<solver::SoftSolver::Bounce> bounces;
   std::vector<int> neighbours;
+
+  /// Reads or writes what carries from one step to the next (World::saveState; carried_state.cpp):
+  /// not the scratch above, which each step rebuilds.
+  void persist(state::Archive& archive);
 };
 
 /// One pass of length h (s) through the stages above (the soft step's with solver type Soft).

@@ -14,6 +14,7 @@
 #include "world/applied_loads.hpp"
 #include "world/joint_pose.hpp"
 #include "world/slots.hpp"
+#include "world/world_impl.hpp"
 
 #include <fmt/format.h>
 
@@ -66,17 +67,6 @@ class RemovedJoint final : public Joint {
 };
 
 }  // namespace
-
-struct World::Impl {
-  Slots body_slots, joint_slots;
-  step::State step;
-  step::FaultCheck check;
-  // Names to indices: a scene of 64,000 bodies would otherwise spend seconds in duplicate checks.
-  std::unordered_map<std::string, int> body_names, joint_names;
-  AppliedLoads loads;
-  std::vector<std::pair<int, VectorSignal>> paths;  // kinematic bodies' paths
-  std::function<void(World&)> force_callback;
-};
 
 World::World(const WorldSettings& settings)
     : settings_(settings), impl_(std::make_unique<Impl>()) {}
