@@ -244,19 +244,33 @@ case "$case_name" in
     ;;
 
   non_finite)
-    # A free body fast enough that its position overflows to infinity at the third step.
+    # A free body fast enough that its position overflows to infinity at the third step (under a
+    # speed bound lifted to let it get there).
     cat >runaway.json <<'EOF'
 {
-  "gravity": [0, 0, 0], "timestep": 0.5, "duration": 2,
+  "gravity": [0, 0, 0], "timestep": 0.5, "duration": 2, "faults": {"max_speed": 1.7e308},
   "bodies": [{"name": "runaway", "mass": 1, "inertia": [1, 1, 1],
               "linear_velocity": [1.5e308, 0, 0]}]
 }
 EOF
     expect 3 "$linx" run runaway.json --out out
-    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); output kept up to t = 1 s in out"
+    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); output kept up to t = 1 s in out; the last good state (t = 1 s) is in out/checkpoints/step_000000000000002.lxc"
     # The frames before the fault are kept, whole: t = 0, 0.5 and 1.
     [ "$(cut -d, -f1 out/world.csv | tr '\n' ' ')" = "time 0 0.5 1 " ] ||
       fail "world.csv of the faulted run: $(cat out/world.csv)"
+    # Resumed from its last good state, it meets the same fault at the same step.
+    expect 3 "$linx" resume out
+    grep -q "position is not finite after step 3 (t = 1.5 s)" err.txt || fail "resume: another fault"
+
+    # The default speed bound stops the same body at its first step.
+    sed 's/, "faults": {"max_speed": 1.7e308}//' runaway.json >bound.json
+    expect 3 "$linx" run bound.json --out bound
+    expect_error_line "linx: bound.json: bodies[0] (runaway): speed 1.5e+308 m/s is above faults.max_speed (10000 m/s) after step 1 (t = 0.5 s); output kept up to t = 0 s in bound"
+    # --on-fault continue: a warning per fault, and the run goes on (to the non-finite state).
+    expect 3 "$linx" run bound.json --out bound --on-fault continue
+    [ "$(grep -c "linx: warning: bound.json: bodies\[0\] (runaway): speed 1.5e+308 m/s is above faults.max_speed (10000 m/s) after step [12] .*; going on (--on-fault continue)" err.txt)" -eq 2 ] ||
+      fail "--on-fault continue: expected two warnings"
+    grep -q "position is not finite after step 3" err.txt || fail "--on-fault continue: no stop"
     ;;
 
   interrupt)
@@ -324,6 +338,54 @@ EOF
     grep -q "interrupted inside step 1, still running 1 s after the signal; output kept up to t = 0 s in out" err.txt ||
       fail "the long step: unexpected message"
     expect 0 "$linx" vtk out
+    ;;
+
+  checkpoint)
+    # A run killed (SIGKILL) part-way and resumed from its newest checkpoint writes the same files,
+    # byte for byte, as the run that was never stopped; so does one stopped with SIGINT.
+    args=(run "$examples/pyramid.json" --duration 20 --every 10 --contacts --checkpoint-every 1)
+    expect 0 "$linx" "${args[@]}" --out full
+    for signal in KILL INT; do
+      rm -rf stopped
+      "$linx" "${args[@]}" --out stopped >out.txt 2>err.txt &
+      pid=$!
+      for _ in $(seq 200); do
+        [ "$( { wc -l <stopped/world.csv; } 2>/dev/null || echo 0)" -gt 60 ] && break
+        sleep 0.02
+      done
+      kill -$signal "$pid"
+      wait "$pid" 2>/dev/null
+      [ -n "$(ls stopped/checkpoints)" ] || fail "SIG$signal: no checkpoint written"
+      expect 0 "$linx" resume stopped
+      grep -q "^linx: resuming $examples/pyramid.json at step " err.txt || fail "no resume line"
+      for f in scene.json bodies.csv joints.csv world.csv contacts.csv; do
+        cmp -s full/$f stopped/$f || fail "SIG$signal: $f differs from the run never stopped"
+      done
+    done
+    # A checkpoint named by its file; a finished run has nothing to resume from its last one.
+    newest=$(ls stopped/checkpoints/*.lxc | tail -n 1)
+    expect 0 "$linx" resume "$newest"
+    cmp -s full/bodies.csv stopped/bodies.csv || fail "resume FILE: bodies.csv differs"
+
+    # Bad checkpoints are refused, naming the file and what is wrong.
+    cp "$newest" flipped.lxc
+    size=$(stat -c %s flipped.lxc)
+    printf '\x55' | dd of=flipped.lxc bs=1 seek=$((size / 2)) conv=notrunc status=none
+    expect 2 "$linx" resume flipped.lxc
+    expect_error_line "linx: flipped.lxc: checksum: does not match: the file is damaged"
+    head -c $((size / 2)) "$newest" >cut.lxc
+    expect 2 "$linx" resume cut.lxc
+    expect_error_line "linx: cut.lxc: length: the header says "
+    echo "not a checkpoint" >text.lxc
+    expect 2 "$linx" resume text.lxc
+    expect_error_line "linx: text.lxc: format: not a linx checkpoint"
+    expect 2 "$linx" resume missing.lxc
+    expect_error_line "linx: missing.lxc: file: "
+    mkdir nothing
+    expect 2 "$linx" resume nothing
+    expect_error_line "linx: nothing: no checkpoints in nothing/checkpoints (run with --checkpoint-every)"
+    expect 2 "$linx" run "$examples/pyramid.json" --out x --checkpoint-every 0
+    expect_error_line "linx: --checkpoint-every: must be a finite number > 0, got 0"
     ;;
 
   plot)

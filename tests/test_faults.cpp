@@ -6,7 +6,10 @@
 
 #include "step/check.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include <vector>
 
@@ -86,9 +89,10 @@ TEST(FaultCheck, TheRiseIsMeasuredFromTheLowestEnergy) {
   EXPECT_NO_THROW(stepTo(check, bodies, 0, 7.0, settings, false, 2));
   // 7.2 m/s: 51.84 J above the lowest point, past the bound, although the sum is still negative.
   EXPECT_THROW(stepTo(check, bodies, 0, 7.2, settings, false, 3), EnergyGrowth);
-  // Switched off, nothing is checked but finiteness.
+  // Switched off (and the speed bound lifted), nothing is checked but finiteness.
   step::FaultCheck off;
   settings.energy = false;
+  settings.max_speed = kInfinity;
   EXPECT_NO_THROW(stepTo(off, bodies, 0, 1e6, settings, false, 1));
   EXPECT_THROW(stepTo(off, bodies, 0, std::numeric_limits<double>::infinity(), settings, false, 2),
                NonFiniteState);
@@ -97,6 +101,110 @@ TEST(FaultCheck, TheRiseIsMeasuredFromTheLowestEnergy) {
 // Two 1 kg spheres (r = 0.1 m) created 5 cm deep in each other, no gravity. erp / h times the
 // depth beyond the slop would part them at 9.9 m/s; the cap parts them at 3 m/s at most, and the
 // energy the push-out makes stays within the fault allowance (the run goes on).
+// A free body thrown at 2e4 m/s in empty space: it keeps that speed exactly (no force acts), so
+// the first step passes the default bound of 1e4 m/s, named with the body, the step and the time.
+// The runaway at 1e200 m/s, whose energy is infinite, stops the same way.
+TEST(Bounds, ABodyFasterThanTheBoundStopsTheRunNamingIt) {
+  for (const double speed : {2e4, 1e200}) {
+    WorldSettings settings;
+    settings.gravity = Vec3::Zero();
+    World world(settings);
+    BodyDef d;
+    d.name = "bullet";
+    d.mass = 0.01;
+    d.inertia = Mat3::Identity() * 1e-6;
+    d.linear_velocity = Vec3(speed, 0.0, 0.0);
+    world.createBody(d);
+    try {
+      world.step();
+      ADD_FAILURE() << "no fault at " << speed << " m/s";
+    } catch (const BoundExceeded& e) {
+      EXPECT_EQ(e.body(), 0);
+      EXPECT_EQ(e.joint(), -1);
+      EXPECT_EQ(e.step(), 1);
+      EXPECT_EQ(std::string(e.what()),
+                fmt::format("bodies[0] (bullet): speed {:.6g} m/s is above faults.max_speed "
+                            "(10000 m/s) after step 1 (t = 0.001 s)",
+                            speed));
+    }
+  }
+  // Just below the bound: 10 s of flight at 9,999 m/s, exactly 99,990 m.
+  WorldSettings settings;
+  settings.gravity = Vec3::Zero();
+  settings.timestep = 0.01;
+  World world(settings);
+  BodyDef d;
+  d.name = "bullet";
+  d.mass = 0.01;
+  d.inertia = Mat3::Identity() * 1e-6;
+  d.linear_velocity = Vec3(9999.0, 0.0, 0.0);
+  d.angular_velocity = Vec3(0.0, 0.0, 9.9e4);  // and spinning just below its bound
+  const BodyId id = world.createBody(d);
+  for (int i = 0; i < 1000; ++i) world.step();
+  EXPECT_NEAR(world.body(id).position().x(), 99990.0, 1e-6);
+  world.body(id).setAngularVelocity(Vec3(0.0, 0.0, 1.1e5));
+  EXPECT_THROW(world.step(), BoundExceeded);
+}
+
+// A pendulum whose bob is carried 5 m off its pivot between steps: the joint's error (5 m, then
+// what the error reduction leaves) passes max_joint_error, found at the first step checked.
+TEST(Bounds, AJointErrorAboveTheBoundStopsTheRunNamingIt) {
+  for (const int every : {1, 10}) {
+    World world;
+    world.settings().faults.joint_error_every = every;
+    world.settings().solver.post_stabilization = 0;
+    world.settings().faults.energy = false;  // the error reduction makes energy closing 5 m
+    BodyDef bob;
+    bob.name = "bob";
+    bob.mass = 1.0;
+    bob.inertia = Mat3::Identity() * 0.01;
+    bob.position = Vec3(1.0, 0.0, 0.0);
+    const BodyId b = world.createBody(bob);
+    JointDef pivot;
+    pivot.name = "pivot";
+    pivot.body1 = b;
+    pivot.anchor = Vec3::Zero();
+    pivot.axis = Vec3::UnitY();
+    world.createJoint("hinge", pivot);
+    for (int i = 0; i < 3; ++i) world.step();  // 3 steps: none checked at every = 10
+    world.body(b).setPose(Pose{Vec3(6.0, 0.0, 0.0), Quat::Identity()});
+    std::int64_t found = 0;
+    try {
+      for (int i = 0; i < 20; ++i) world.step();
+    } catch (const BoundExceeded& e) {
+      found = e.step();
+      EXPECT_EQ(e.joint(), 0);
+      EXPECT_NE(std::string(e.what()).find("joints[0] (pivot): error "), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("is above faults.max_joint_error (1) after step"),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(found, every == 1 ? 4 : 10);
+  }
+}
+
+// With stop off, the faults are kept and the world steps on (--on-fault continue); a non-finite
+// state stops it all the same.
+TEST(Bounds, WithStopOffTheFaultsAreKeptAndTheWorldStepsOn) {
+  WorldSettings settings;
+  settings.gravity = Vec3::Zero();
+  settings.faults.stop = false;
+  World world(settings);
+  BodyDef d;
+  d.name = "bullet";
+  d.mass = 1.0;
+  d.inertia = Mat3::Identity();
+  d.linear_velocity = Vec3(2e4, 0.0, 0.0);
+  const BodyId id = world.createBody(d);
+  for (int i = 0; i < 150; ++i) world.step();
+  EXPECT_EQ(world.faultCount(), 150);
+  EXPECT_EQ(world.faults().size(), World::kKeptFaults);
+  EXPECT_NE(world.faults()[99].find("after step 100 (t = 0.1 s)"), std::string::npos);
+  EXPECT_NEAR(world.body(id).position().x(), 2e4 * 0.15, 1e-9);
+  world.body(id).setLinearVelocity(Vec3(kInfinity, 0.0, 0.0));
+  EXPECT_THROW(world.step(), NonFiniteState);
+}
+
 TEST(PushOut, DeepOverlapPartsNoFasterThanTheCap) {
   WorldSettings s;
   s.gravity = Vec3::Zero();

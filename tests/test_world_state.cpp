@@ -76,7 +76,6 @@ struct Case {
   bool expect_asleep = false;  // some body sleeps when the state is saved
 };
 
-
 // The truth: the world stepped on without a break. A fresh world built from the same scene and
 // given the state, and the same world rewound to it, must step exactly as it did.
 void checkCase(const Case& c) {

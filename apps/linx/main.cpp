@@ -1,18 +1,19 @@
 // The `linx` command line (docs/scene-format.md, "Command line"; docs/visualization.md):
 //   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--threads N] [--every N]
-//            [--contacts] [--vtk] [--render]
+//            [--checkpoint-every T] [--on-fault stop|continue] [--contacts] [--vtk] [--render]
+//   linx resume DIR|CHECKPOINT   (docs/reliability.md)
 //   linx check SCENE.json   (SCENE may be ROBOT.urdf [--floating-base] or MODEL.xml, MJCF)
 //   linx convert SCENE.json|ROBOT.urdf OUT.json [--floating-base]
 //   linx render DIR ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
-// (scene, flags, usage), 3 the run stopped on a fault (a non-finite state, energy made by an
-// unstable solve), 130 interrupted.
+// (scene, flags, usage), 3 the run stopped on a fault (a non-finite state, a bound passed, energy
+// made by an unstable solve), 130 interrupted.
 #include "cli_common.hpp"
 #include "plot_command.hpp"
 #include "progress.hpp"
 #include "render_command.hpp"
-#include "stop_signals.hpp"
+#include "run_command.hpp"
 #include "view_command.hpp"
 #include "viz/run.hpp"
 #include "viz/vtk.hpp"
@@ -46,80 +47,12 @@ namespace {
 using linx::cli::BadInput;
 using linx::cli::kExitBadInput;
 using linx::cli::kExitFailure;
-using linx::cli::kExitInterrupted;
-using linx::cli::kExitNonFinite;
-
-// Runs longer than this are refused: step numbers and times stay exact in a double.
-constexpr double kMaxSteps = 1e15;
-
-struct RunOptions {
-  std::string scene;
-  std::string out;
-  std::optional<double> duration, timestep;
-  std::optional<int> threads;
-  int every = 1;
-  bool contacts = false;
-  bool vtk = false;            // also write ParaView files (DIR/vtk/, DIR/run.pvd)
-  bool render = false;         // then render POV-Ray frames (linx render DIR)
-  bool floating_base = false;  // a URDF's root link is free
-};
+using linx::cli::RunOptions;
 
 double positiveFlag(const char* flag, double value) {
-  if (!(std::isfinite(value) && value > 0)) {
+  if (!(std::isfinite(value) && value > 0))
     throw BadInput(fmt::format("{}: must be a finite number > 0, got {}", flag, value));
-  }
   return value;
-}
-
-// The number of steps of a run, round(duration / timestep); at least one.
-std::int64_t stepCount(const linx::Scene& scene, const RunOptions& options) {
-  const double steps = std::round(scene.duration / scene.settings.timestep);
-  if (steps >= 1 && steps <= kMaxSteps) return static_cast<std::int64_t>(steps);
-  const std::string problem =
-      steps < 1 ? fmt::format("{} s is shorter than half a timestep ({} s)", scene.duration,
-                              scene.settings.timestep)
-                : fmt::format("{} s at a timestep of {} s is more than {:g} steps", scene.duration,
-                              scene.settings.timestep, kMaxSteps);
-  if (options.duration || options.timestep) {
-    throw BadInput(fmt::format("{}: {}", options.duration ? "--duration" : "--timestep", problem));
-  }
-  throw linx::SceneError(scene.file, "duration", problem);
-}
-
-struct Prepared {
-  linx::Scene scene;
-  linx::World world;
-  std::int64_t steps;
-};
-
-// Loads the scene, applies the flags and builds the world: everything that can reject the input.
-Prepared prepare(const RunOptions& options) {
-  linx::Scene scene =
-      linx::loadModel(options.scene, linx::ImportOptions{.floating_base = options.floating_base});
-  for (const std::string& warning : scene.warnings)
-    fmt::print(stderr, "linx: warning: {}\n", warning);
-  if (options.duration) scene.duration = *options.duration;
-  if (options.timestep) scene.settings.timestep = *options.timestep;
-  if (options.threads) scene.settings.threads = *options.threads;
-  const std::int64_t steps = stepCount(scene, options);
-  linx::World world = linx::buildWorld(scene);
-  return {std::move(scene), std::move(world), steps};
-}
-
-int check(const RunOptions& options) {
-  const Prepared p = prepare(options);
-  const auto count = [](std::size_t n, const char* one, const char* many) {
-    return fmt::format("{} {}", n, n == 1 ? one : many);
-  };
-  // Springs and loads only when the scene has them.
-  std::string extra;
-  if (!p.scene.springs.empty()) extra += ", " + count(p.scene.springs.size(), "spring", "springs");
-  if (!p.scene.loads.empty()) extra += ", " + count(p.scene.loads.size(), "load", "loads");
-  fmt::print("{}: ok: {}, {}{}, timestep {} s, duration {} s ({} steps), solver {}\n",
-             options.scene, count(p.scene.bodies.size(), "body", "bodies"),
-             count(p.scene.joints.size(), "joint", "joints"), extra, p.scene.settings.timestep,
-             p.scene.duration, p.steps, linx::solverTypeName(p.scene.settings.solver.type));
-  return 0;
 }
 
 struct ConvertOptions {
@@ -163,112 +96,6 @@ int convert(const ConvertOptions& options) {
   return 0;
 }
 
-int writeVtk(const std::string& dir);
-
-// One line on stdout for each joint that broke since the last call.
-void reportBreaks(const linx::World& world, std::size_t& reported,
-                  linx::cli::ProgressBar& progress) {
-  const auto breaks = world.jointBreaks();
-  for (; reported < breaks.size(); ++reported) {
-    const linx::JointBreak& b = breaks[reported];
-    const linx::JointDef& def = world.joint(b.joint).def();
-    const double force = b.reaction.force.norm(), torque = b.reaction.torque.norm();
-    const bool by_force = force > def.break_force.value_or(linx::kInfinity);
-    progress.clear();
-    fmt::print("t = {:.9g} s: joint '{}' broke: {} (force {:.6g} N, torque {:.6g} N m)\n", b.time,
-               def.name,
-               by_force ? fmt::format("force above its break_force of {} N", *def.break_force)
-                        : fmt::format("torque above its break_torque of {} N m", *def.break_torque),
-               force, torque);
-  }
-}
-
-// "output kept up to t = T in DIR": what a run that stopped early leaves.
-std::string keptOutput(const RunOptions& options, double last_frame_time) {
-  return fmt::format("output kept up to t = {} s in {}", last_frame_time, options.out);
-}
-
-int run(const RunOptions& options) {
-  if (options.every < 1) {
-    throw BadInput(fmt::format("--every: must be at least 1, got {}", options.every));
-  }
-  std::error_code ec;
-  if (std::filesystem::exists(options.out, ec) && !std::filesystem::is_directory(options.out, ec)) {
-    throw BadInput(fmt::format("--out: {}: exists and is not a directory", options.out));
-  }
-  Prepared p = prepare(options);
-  linx::World& world = p.world;
-  const linx::cli::StopSignals stop_signals;
-
-  bool breakable = false;
-  for (const linx::SceneJoint& j : p.scene.joints)
-    breakable = breakable || j.def.break_force || j.def.break_torque;
-  // Replaces an earlier run in the folder; every frame is on disk once recorded
-  // (docs/reliability.md), so a run stopped at any point keeps what it recorded.
-  linx::Recorder recorder(options.out,
-                          linx::RecorderOptions{.contacts = options.contacts, .breaks = breakable});
-  recorder.record(world);
-  recorder.writeFile(std::string(linx::run_files::kScene.name),
-                     linx::runSceneJson(p.scene, world, options.every));
-  std::int64_t frames = 1, step = 0;
-  double last_frame_time = world.time();
-  std::size_t breaks_reported = 0;
-  linx::cli::ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr, p.steps,
-                                  p.scene.duration);
-  // A step that runs on for a second after SIGINT or SIGTERM (a huge dense solve) is not waited
-  // for: the frames recorded are already whole on disk.
-  linx::cli::StopWatchdog watchdog(std::chrono::seconds(1), [&] {
-    fmt::print(stderr,
-               "linx: {}: interrupted inside step {}, still running 1 s after the signal; {}\n",
-               options.scene, step, keptOutput(options, last_frame_time));
-    std::_Exit(kExitInterrupted);
-  });
-  const auto recordFrame = [&] {
-    recorder.record(world);
-    last_frame_time = world.time();
-    ++frames;
-  };
-  for (step = 1; step <= p.steps; ++step) {
-    try {
-      const linx::cli::StopWatchdog::Busy busy(watchdog);
-      world.step();
-    } catch (const linx::StepFault& e) {  // a non-finite state or an energy blow-up
-      progress.clear();
-      recorder.finish();
-      fmt::print(stderr, "linx: {}: {}; {}\n", options.scene, e.what(),
-                 keptOutput(options, last_frame_time));
-      return kExitNonFinite;
-    }
-    reportBreaks(world, breaks_reported, progress);
-    if (step % options.every == 0 || step == p.steps || linx::cli::StopSignals::received())
-      recordFrame();
-    if (linx::cli::StopSignals::received()) {
-      progress.clear();
-      recorder.finish();
-      fmt::print(stderr, "linx: {}: interrupted at step {} (t = {} s); {}\n", options.scene, step,
-                 world.time(), keptOutput(options, last_frame_time));
-      return kExitInterrupted;
-    }
-    progress.update(step, world.time());
-  }
-  progress.clear();
-  recorder.finish();
-  fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n",
-             4 + int{options.contacts} + int{breakable}, options.out, frames, p.steps,
-             world.time());
-  if (options.vtk) writeVtk(options.out);
-  if (options.render) return linx::cli::render(linx::cli::RenderOptions{.dir = options.out});
-  return 0;
-}
-
-int writeVtk(const std::string& dir) {
-  const linx::viz::Run run = linx::viz::readRun(dir);
-  const linx::viz::VtkSummary written = linx::viz::writeVtk(run, dir);
-  fmt::print("wrote {} ({} frames in {})\n", written.collection.string(), written.frames,
-             written.folder.string());
-  return 0;
-}
-
 // CLI11 messages may span lines; errors here are one line.
 std::string oneLine(std::string text) {
   std::replace(text.begin(), text.end(), '\n', ' ');
@@ -285,7 +112,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Scene format and outputs: docs/scene-format.md.\n"
       "Exit status: 0 success, 1 output or internal failure, 2 bad input, 3 a fault (a non-finite\n"
-      "state, or energy made by an unstable solve), 130 interrupted.");
+      "state, a speed or joint error bound passed, or energy made by an unstable solve), 130\n"
+      "interrupted (docs/reliability.md).");
 
   RunOptions options;
   double duration = 0, timestep = 0;
@@ -303,6 +131,17 @@ int main(int argc, char** argv) {
   CLI::Option* threads_opt = run_cmd->add_option(
       "--threads", threads, "Worker threads (0: one per hardware thread), overrides the scene's");
   run_cmd->add_option("--every", options.every, "Record every N steps (and the last)")
+      ->capture_default_str();
+  double checkpoint_every = 0;
+  CLI::Option* checkpoint_opt = run_cmd->add_option(
+      "--checkpoint-every", checkpoint_every,
+      "Write a checkpoint every T seconds of simulated time (DIR/checkpoints/), to resume from");
+  std::string on_fault = "stop";
+  run_cmd
+      ->add_option("--on-fault", on_fault,
+                   "stop: a fault ends the run (exit 3); continue: warn and go on (a non-finite "
+                   "state always stops)")
+      ->check(CLI::IsMember({"stop", "continue"}))
       ->capture_default_str();
   run_cmd->add_flag("--contacts", options.contacts,
                     "Also write contacts.csv (every contact point of each recorded step)");
@@ -330,6 +169,14 @@ int main(int argc, char** argv) {
         std::pair{convert_cmd, &convert_options.floating_base}})
     cmd->add_flag("--floating-base", *floating_base,
                   "URDF: the root link is a free body, not fixed to the world");
+
+  std::string resume_from;
+  CLI::App* resume_cmd = app.add_subcommand(
+      "resume", "Go on with a run from its newest checkpoint (or the one given)");
+  resume_cmd
+      ->add_option("checkpoint", resume_from,
+                   "Run folder (its newest checkpoint) or checkpoint file (DIR/checkpoints/*.lxc)")
+      ->required();
 
   linx::cli::RenderOptions render_options;
   CLI::App* render_cmd =
@@ -360,6 +207,9 @@ int main(int argc, char** argv) {
   try {
     if (duration_opt->count()) options.duration = positiveFlag("--duration", duration);
     if (timestep_opt->count()) options.timestep = positiveFlag("--timestep", timestep);
+    if (checkpoint_opt->count())
+      options.checkpoint_every = positiveFlag("--checkpoint-every", checkpoint_every);
+    options.keep_going = on_fault == "continue";
     if (threads_opt->count()) {
       if (threads < 0 || threads > linx::kMaxThreads)
         throw BadInput(fmt::format("--threads: must be an integer in [0, {}], got {}",
@@ -367,15 +217,22 @@ int main(int argc, char** argv) {
       options.threads = threads;
     }
     if (*render_cmd) return linx::cli::render(render_options);
-    if (*vtk_cmd) return writeVtk(vtk_dir);
+    if (*vtk_cmd) return linx::cli::writeVtk(vtk_dir);
+    if (*resume_cmd) {
+      options.scene = resume_from;  // names the checkpoint in messages
+      return linx::cli::resume(resume_from);
+    }
     if (*plot_cmd) return linx::cli::plot(plot_options);
     if (*view_cmd) return linx::cli::view(view_options);
     if (*convert_cmd) {
       options.scene = convert_options.input;  // names the input in messages
       return convert(convert_options);
     }
-    return *check_cmd ? check(options) : run(options);
+    return *check_cmd ? linx::cli::check(options) : linx::cli::run(options);
   } catch (const linx::SceneError& e) {
+    fmt::print(stderr, "linx: {}\n", e.what());
+    return kExitBadInput;
+  } catch (const linx::CheckpointError& e) {
     fmt::print(stderr, "linx: {}\n", e.what());
     return kExitBadInput;
   } catch (const linx::viz::RunError& e) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <linx/body.hpp>
+#include <linx/checkpoint.hpp>
 #include <linx/contact.hpp>
 #include <linx/import.hpp>
 #include <linx/joint.hpp>

@@ -19,6 +19,8 @@
 
 #include <linx/world.hpp>
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -31,11 +33,24 @@ struct RecorderOptions {
   bool breaks = false;
 };
 
+/// How far a recorder has written: the size of each of its files (bodies, joints, world,
+/// contacts, breaks; 0 for a file it does not write) and the joint breaks written. A checkpoint
+/// keeps it, so that a resumed run cuts its files back to where the checkpoint was taken.
+struct RecorderPosition {
+  std::array<std::uint64_t, 5> bytes{};
+  std::uint64_t breaks = 0;
+};
+
 class Recorder {
  public:
   /// Creates DIR if needed, removes an earlier run's files from it and creates the CSV files with
   /// their headers. Throws std::runtime_error naming the file and the reason on failure.
   explicit Recorder(const std::filesystem::path& dir, const RecorderOptions& options = {});
+  /// Reopens the files of a run in DIR to go on from `at` (a checkpoint's position): each is cut
+  /// back to its size there, and nothing else in DIR changes. Throws std::runtime_error when a
+  /// file is missing or shorter than that (the folder is not the checkpoint's run).
+  Recorder(const std::filesystem::path& dir, const RecorderOptions& options,
+           const RecorderPosition& at);
   ~Recorder();  ///< closes the files (what was recorded stays)
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;
@@ -52,12 +67,13 @@ class Recorder {
   void finish();
 
   const std::filesystem::path& dir() const { return dir_; }
+  RecorderPosition position() const { return position_; }
 
  private:
   struct Files;
   std::filesystem::path dir_;
   std::unique_ptr<Files> files_;
-  std::size_t breaks_written_ = 0;
+  RecorderPosition position_;
   bool finished_ = false;
 };
 

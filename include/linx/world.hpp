@@ -49,6 +49,19 @@ class NonFiniteState : public StepFault {
   using StepFault::StepFault;
 };
 
+/// A body moved faster than FaultSettings::max_speed or turned faster than max_angular_speed, or a
+/// joint's error passed max_joint_error: what() names it, its value, the bound, the step and the
+/// time. joint() is the joint's index, -1 for a body.
+class BoundExceeded : public StepFault {
+ public:
+  BoundExceeded(const std::string& what, int body, int joint, std::int64_t step, double time)
+      : StepFault(what, body, step, time), joint_(joint) {}
+  int joint() const { return joint_; }
+
+ private:
+  int joint_;
+};
+
 /// The steps produced more energy than FaultSettings allows while nothing drove the world: the
 /// solve is unstable and the motion is not physics. what() names the step, the time and the body
 /// with the most kinetic energy.
@@ -73,11 +86,24 @@ class EnergyGrowth : public StepFault {
 /// (sums over the movable bodies),
 /// the second term allowing position correction to lift every body by `height` or push it to
 /// `speed`. Changes made between steps (a new velocity, a moved body) are not counted.
+///
+/// The bounds: a body faster than max_speed (m/s) or max_angular_speed (rad/s), checked after
+/// every step, or a joint whose error (World::jointError) is above max_joint_error (m or rad),
+/// checked every joint_error_every steps (it costs a joint's rows again: 2 to 7 % of a mechanism's
+/// step if done every step), stops the run (BoundExceeded). Infinity turns a bound off.
+///
+/// With `stop` false, a fault other than a non-finite state does not throw: it is kept in
+/// World::faults() and the world steps on (`linx run --on-fault continue`).
 struct FaultSettings {
-  bool energy = true;             ///< check the energy at all
-  double kinetic_fraction = 0.5;  ///< >= 0
-  double height = 0.1;            ///< (m) >= 0
-  double speed = 3.0;             ///< (m/s) >= 0; the contacts' max_push_out by default
+  bool energy = true;              ///< check the energy at all
+  double kinetic_fraction = 0.5;   ///< >= 0
+  double height = 0.1;             ///< (m) >= 0
+  double speed = 3.0;              ///< (m/s) >= 0; the contacts' max_push_out by default
+  double max_speed = 1e4;          ///< (m/s) > 0
+  double max_angular_speed = 1e5;  ///< (rad/s) > 0
+  double max_joint_error = 1.0;    ///< (m or rad) > 0
+  int joint_error_every = 10;      ///< (steps) >= 1
+  bool stop = true;                ///< false: keep going, the faults kept in World::faults()
 };
 
 /// The most worker threads a world accepts (WorldSettings::threads, a scene's `threads`,
@@ -230,6 +256,11 @@ class World {
   /// both, about the same point. Limits, motors, servos and springs included; zero before the
   /// first step; the soft step's are the mean over its substeps (zero for a sleeping island).
   JointReaction jointReaction(JointId id) const;
+  /// The faults passed over with FaultSettings::stop false, in order: the first kKeptFaults
+  /// messages; faultCount() counts them all.
+  std::span<const std::string> faults() const { return faults_; }
+  std::int64_t faultCount() const { return fault_count_; }
+  static constexpr std::size_t kKeptFaults = 100;
   /// The joints that broke so far, in the order they broke.
   std::span<const JointBreak> jointBreaks() const { return breaks_; }
   /// Largest error over all joints.
@@ -242,6 +273,8 @@ class World {
   struct Impl;
   /// Reads or writes (state::Archive::loading) the state saveState() holds (world_state.cpp).
   void persist(state::Archive& archive);
+  /// Throws BoundExceeded for the first joint whose error is above faults.max_joint_error.
+  void checkJointErrors() const;
   /// Disables the joints whose reaction over the last step passed their break thresholds.
   void breakOverloadedJoints();
 
@@ -254,6 +287,8 @@ class World {
   std::int64_t clock_steps_ = 0;
   SolverReport report_;
   std::vector<JointBreak> breaks_;
+  std::vector<std::string> faults_;
+  std::int64_t fault_count_ = 0;
   std::unique_ptr<Impl> impl_;  // solver state kept across steps (warm start, work buffers)
 };
 

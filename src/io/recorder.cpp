@@ -126,7 +126,33 @@ Recorder::Recorder(const fs::path& dir, const RecorderOptions& options)
     f.fd[i] = ::openat(f.dir_fd, name.c_str(),
                        O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
     if (f.fd[i] < 0) throw ioError("create", dir_ / name, errno);
-    writeAll(f.fd[i], fmt::format("{}\n", kOutputs[i].header), dir_ / name);
+    const std::string header = fmt::format("{}\n", kOutputs[i].header);
+    writeAll(f.fd[i], header, dir_ / name);
+    position_.bytes[static_cast<std::size_t>(i)] = header.size();
+  }
+}
+
+Recorder::Recorder(const fs::path& dir, const RecorderOptions& options, const RecorderPosition& at)
+    : dir_(dir), files_(std::make_unique<Files>()), position_(at) {
+  Files& f = *files_;
+  f.dir_fd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (f.dir_fd < 0) throw ioError("open the output folder", dir_, errno);
+  for (int i = 0; i < kOutputCount; ++i) {
+    if ((i == kContacts && !options.contacts) || (i == kBreaks && !options.breaks)) continue;
+    const fs::path path = dir_ / kOutputs[i].name;
+    const std::string name(kOutputs[i].name);
+    f.fd[i] = ::openat(f.dir_fd, name.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (f.fd[i] < 0) throw ioError("reopen", path, errno);
+    struct stat st {};
+    const std::uint64_t size = at.bytes[static_cast<std::size_t>(i)];
+    if (::fstat(f.fd[i], &st) != 0) throw ioError("reopen", path, errno);
+    if (static_cast<std::uint64_t>(st.st_size) < size)
+      throw std::runtime_error(fmt::format(
+          "cannot resume {}: {} bytes, the checkpoint's run had written {} (not this run's file?)",
+          path.string(), st.st_size, size));
+    if (::ftruncate(f.fd[i], static_cast<off_t>(size)) != 0 ||
+        ::lseek(f.fd[i], static_cast<off_t>(size), SEEK_SET) < 0)
+      throw ioError("cut back", path, errno);
   }
 }
 
@@ -171,8 +197,8 @@ void Recorder::record(const World& world) {
 
   if (files_->fd[kBreaks] >= 0) {
     const auto all = world.jointBreaks();
-    for (; breaks_written_ < all.size(); ++breaks_written_) {
-      const JointBreak& b = all[breaks_written_];
+    for (; position_.breaks < all.size(); ++position_.breaks) {
+      const JointBreak& b = all[position_.breaks];
       const JointReaction& r = b.reaction;
       fmt::format_to(std::back_inserter(out[kBreaks]), "{},{},{},{},{},{},{},{},{}\n", b.time,
                      b.step, csvField(world.joint(b.joint).name()), r.force.x(), r.force.y(),
@@ -191,7 +217,9 @@ void Recorder::record(const World& world) {
   }
 
   for (int i = 0; i < kOutputCount; ++i) {
-    if (files_->fd[i] >= 0) writeAll(files_->fd[i], out[i], dir_ / kOutputs[i].name);
+    if (files_->fd[i] < 0) continue;
+    writeAll(files_->fd[i], out[i], dir_ / kOutputs[i].name);
+    position_.bytes[static_cast<std::size_t>(i)] += out[i].size();
   }
 }
 

@@ -519,12 +519,17 @@ class Reader {
   }
 
   FaultSettings faults(const Node& n) const {
-    allowOnly(n, {"energy", "kinetic_fraction", "height", "speed"});
+    allowOnly(n, {"energy", "kinetic_fraction", "height", "speed", "max_speed",
+                  "max_angular_speed", "max_joint_error", "joint_error_every"});
     FaultSettings s;
     if (auto v = get(n, "energy")) s.energy = boolean(*v);
     if (auto v = get(n, "kinetic_fraction")) s.kinetic_fraction = nonNegative(*v);
     if (auto v = get(n, "height")) s.height = nonNegative(*v);
     if (auto v = get(n, "speed")) s.speed = nonNegative(*v);
+    if (auto v = get(n, "max_speed")) s.max_speed = positive(*v);
+    if (auto v = get(n, "max_angular_speed")) s.max_angular_speed = positive(*v);
+    if (auto v = get(n, "max_joint_error")) s.max_joint_error = positive(*v);
+    if (auto v = get(n, "joint_error_every")) s.joint_error_every = integer(*v, 1);
     return s;
   }
 

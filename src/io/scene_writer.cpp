@@ -294,6 +294,10 @@ class Writer {
     putIfChanged(j, "kinetic_fraction", s.kinetic_fraction, d.kinetic_fraction, path);
     putIfChanged(j, "height", s.height, d.height, path);
     putIfChanged(j, "speed", s.speed, d.speed, path);
+    putIfChanged(j, "max_speed", s.max_speed, d.max_speed, path);
+    putIfChanged(j, "max_angular_speed", s.max_angular_speed, d.max_angular_speed, path);
+    putIfChanged(j, "max_joint_error", s.max_joint_error, d.max_joint_error, path);
+    putIfChanged(j, "joint_error_every", s.joint_error_every, d.joint_error_every);
     return j;
   }
 

@@ -50,6 +50,7 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
         fmt::format("bodies[{}] ({}): {} is not finite after step {} (t = {} s)", i,
                     bodies[static_cast<std::size_t>(i)].name(), what, step, time),
         i, step, time);
+  checkSpeeds(bodies, settings, step, time);
   if (!settings.energy) return;
   const Energy after = dynamics::computeEnergy(bodies, gravity);
   if (std::isfinite(after.kinetic)) kinetic_peak_ = std::max(kinetic_peak_, after.kinetic);
@@ -87,6 +88,27 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
           "timestep or more solver.substeps help; docs/solver.md)",
           rise, bound, step, time, body),
       fastest, step, time, rise, bound);
+}
+
+void FaultCheck::checkSpeeds(std::span<const Body> bodies, const FaultSettings& settings,
+                             std::int64_t step, double time) {
+  const double v2 = settings.max_speed * settings.max_speed,
+               w2 = settings.max_angular_speed * settings.max_angular_speed;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const Body& b = bodies[i];
+    const bool linear = b.linearVelocity().squaredNorm() > v2;
+    if (!linear && !(b.angularVelocity().squaredNorm() > w2)) continue;
+    throw BoundExceeded(
+        linear ? fmt::format("bodies[{}] ({}): speed {:.6g} m/s is above faults.max_speed ({} "
+                             "m/s) after step {} (t = {} s)",
+                             i, b.name(), b.linearVelocity().stableNorm(), settings.max_speed, step,
+                             time)
+               : fmt::format("bodies[{}] ({}): angular speed {:.6g} rad/s is above "
+                             "faults.max_angular_speed ({} rad/s) after step {} (t = {} s)",
+                             i, b.name(), b.angularVelocity().stableNorm(),
+                             settings.max_angular_speed, step, time),
+        static_cast<int>(i), -1, step, time);
+  }
 }
 
 void FaultCheck::persist(state::Archive& a) {

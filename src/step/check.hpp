@@ -1,6 +1,7 @@
 // The check after a step: faults that make its results meaningless stop the run instead of
 // passing silently (FaultSettings in linx/world.hpp, docs/solver.md "Faults"):
 //   - a body whose pose or velocity is not finite (NonFiniteState);
+//   - a body faster than the settings' max_speed or max_angular_speed (BoundExceeded);
 //   - energy made by steps that nothing drove, beyond the settings' bound (EnergyGrowth).
 #pragma once
 
@@ -25,6 +26,10 @@ class FaultCheck {
   /// most kinetic energy.
   void end(std::span<const Body> bodies, const Vec3& gravity, const FaultSettings& settings,
            bool motors, std::int64_t step, double time);
+  /// Throws BoundExceeded for the first body faster than the settings' max_speed or
+  /// max_angular_speed.
+  static void checkSpeeds(std::span<const Body> bodies, const FaultSettings& settings,
+                          std::int64_t step, double time);
   /// Reads or writes the sums carried from step to step (World::saveState).
   void persist(state::Archive& archive);
 

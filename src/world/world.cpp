@@ -289,6 +289,11 @@ void World::step() {
   if (!(faults.kinetic_fraction >= 0.0 && faults.height >= 0.0 && faults.speed >= 0.0) ||
       !std::isfinite(faults.kinetic_fraction + faults.height + faults.speed))
     throw std::invalid_argument("faults: kinetic_fraction, height and speed must be finite, >= 0");
+  if (!(faults.max_speed > 0 && faults.max_angular_speed > 0 && faults.max_joint_error > 0) ||
+      faults.joint_error_every < 1)
+    throw std::invalid_argument(
+        "faults: max_speed, max_angular_speed and max_joint_error must be > 0, joint_error_every "
+        ">= 1");
   // The soft step substeps within one pass; the others pass `substeps` times.
   const int substeps =
       settings_.solver.type == SolverType::Soft ? 1 : std::max(1, settings_.solver.substeps);
@@ -319,8 +324,31 @@ void World::step() {
   time_ = clock_origin_ + static_cast<double>(++clock_steps_) * h;
   const auto& rows = impl_->step.rows.rows;
   const bool motors = driven(rows, joints_, bodies_);
-  impl_->check.end(bodies_, settings_.gravity, faults, motors, steps_, time_);
+  try {
+    impl_->check.end(bodies_, settings_.gravity, faults, motors, steps_, time_);
+    if (steps_ % faults.joint_error_every == 0) checkJointErrors();
+  } catch (const NonFiniteState&) {
+    throw;
+  } catch (const StepFault& fault) {
+    if (faults.stop) throw;
+    if (faults_.size() < kKeptFaults) faults_.emplace_back(fault.what());
+    ++fault_count_;
+  }
   breakOverloadedJoints();
+}
+
+void World::checkJointErrors() const {
+  const double bound = settings_.faults.max_joint_error;
+  if (std::isinf(bound)) return;
+  for (const JointId id : jointIds()) {
+    const double error = jointError(id);
+    if (!(error > bound)) continue;
+    throw BoundExceeded(
+        fmt::format("joints[{}] ({}): error {:.6g} (m or rad) is above faults.max_joint_error ({}) "
+                    "after step {} (t = {} s)",
+                    id.index, joint(id).name(), error, bound, steps_, time_),
+        -1, id.index, steps_, time_);
+  }
 }
 
 void World::breakOverloadedJoints() {

@@ -54,6 +54,7 @@ void World::persist(state::Archive& a) {
     a(b.reaction.force);
     a(b.reaction.torque);
   }
+  a.fields(faults_, fault_count_);
   for (Body& b : bodies_) {
     a(b.pose_);
     a(b.v_);
