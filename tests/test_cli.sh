@@ -254,7 +254,7 @@ case "$case_name" in
 }
 EOF
     expect 3 "$linx" run runaway.json --out out
-    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); output kept up to t = 1 s in out; the last good state (t = 1 s) is in out/checkpoints/step_000000000000002.lxc"
+    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); output kept up to t = 1 s in out; the last good state (t = 0 s) is in out/checkpoints/step_000000000000000.lxc"
     # The frames before the fault are kept, whole: t = 0, 0.5 and 1.
     [ "$(cut -d, -f1 out/world.csv | tr '\n' ' ')" = "time 0 0.5 1 " ] ||
       fail "world.csv of the faulted run: $(cat out/world.csv)"

@@ -37,6 +37,8 @@ namespace {
 constexpr double kMaxSteps = 1e15;
 // Checkpoints kept in DIR/checkpoints: the newest and the one before it.
 constexpr std::size_t kCheckpointsKept = 2;
+// How often (wall-clock time) the state at a recorded frame is kept as a fault's last good state.
+constexpr std::chrono::seconds kLastGoodInterval{1};
 // Faults reported one by one under --on-fault continue; the rest are counted.
 constexpr std::size_t kFaultWarnings = 10;
 
@@ -152,6 +154,7 @@ int simulate(Session& s) {
   WorldState last_good = world.saveState();
   RecorderPosition last_good_output = s.recorder.position();
   std::int64_t last_good_frames = s.run.frames, last_good_step = world.stepCount();
+  double last_good_time = world.time();
   std::size_t breaks_reported = world.jointBreaks().size(), faults_reported = 0;
   std::int64_t step = world.stepCount();
   ProgressBar progress(isatty(fileno(stderr)) ? stderr : nullptr, steps,
@@ -164,14 +167,21 @@ int simulate(Session& s) {
                s.run.source, step, keptOutput(s, last_frame_time));
     std::_Exit(kExitInterrupted);
   });
+  // The last good state is taken at a recorded frame, at most once a second of the run's own
+  // time: a state costs as much as a fifth of a step (a pyramid's), too much for every frame.
+  auto last_good_taken = std::chrono::steady_clock::now();
   const auto recordFrame = [&] {
     s.recorder.record(world);
     ++s.run.frames;
     last_frame_time = world.time();
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_good_taken < kLastGoodInterval) return;
+    last_good_taken = now;
     last_good = world.saveState();
     last_good_output = s.recorder.position();
     last_good_frames = s.run.frames;
     last_good_step = world.stepCount();
+    last_good_time = world.time();
   };
   const auto reportFaults = [&] {
     const auto faults = world.faults();
@@ -193,8 +203,8 @@ int simulate(Session& s) {
       const fs::path saved =
           writeRunCheckpoint(s, last_good, last_good_output, last_good_frames, last_good_step);
       fmt::print(stderr, "linx: {}: {}; {}; the last good state (t = {} s) is in {}\n",
-                 s.run.source, e.what(), keptOutput(s, last_frame_time), last_frame_time,
-                 saved.string());
+                 s.run.source, e.what(), keptOutput(s, last_frame_time),
+                 last_good_time, saved.string());
       return kExitNonFinite;
     }
     reportBreaks(world, breaks_reported, progress);
