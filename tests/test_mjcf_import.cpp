@@ -311,7 +311,7 @@ TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
     ADD_FAILURE() << "a missing include was accepted";
   } catch (const SceneError& e) {
     EXPECT_EQ(e.file(), (dir_ / "nowhere.xml").string());
-    EXPECT_EQ(e.problem(), "cannot open the file");
+    EXPECT_EQ(e.problem(), "cannot open: No such file or directory");
   }
   refused(
       "<mujoco><worldbody><body><joint range='1 -1'/><geom size='1'/></body></worldbody>"

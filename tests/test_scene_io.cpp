@@ -4,6 +4,8 @@
 #include <linx/scene.hpp>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -363,6 +365,77 @@ TEST(SceneError, Files) {
   } catch (const linx::SceneError& e) {
     EXPECT_EQ(e.problem(), "is a directory");
   }
+}
+
+// Hostile files (issue 17): a device, a pipe, a file far larger than any scene, files outside the
+// scene's folder. Each is refused, naming the file or the field, before a byte is read from it.
+TEST(SceneError, DevicesPipesHugeFilesAndOutsidePathsAreRefused) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / ("linx_inputs_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "scene");
+  fs::create_directories(root / "elsewhere");
+  const auto problem = [](const fs::path& scene, linx::ImportOptions options = {}) -> std::string {
+    try {
+      linx::loadScene(scene, options);
+    } catch (const linx::SceneError& e) {
+      return e.field() + ": " + e.problem();
+    }
+    return "accepted";
+  };
+  // The scene itself: /dev/zero (endless), a FIFO (no writer: opening must not wait), a sparse
+  // file of 300 MiB.
+  EXPECT_EQ(problem("/dev/zero"), ": not a regular file (a device, a pipe or a socket)");
+  ASSERT_EQ(::mkfifo((root / "scene" / "pipe.json").c_str(), 0600), 0);
+  EXPECT_EQ(problem(root / "scene" / "pipe.json"),
+            ": not a regular file (a device, a pipe or a socket)");
+  {
+    std::ofstream(root / "scene" / "huge.json") << "{}";
+    fs::resize_file(root / "scene" / "huge.json", 300 * 1024 * 1024);
+  }
+  EXPECT_EQ(problem(root / "scene" / "huge.json"),
+            ": is 300 MiB, above the limit of 256 MiB for a scene");
+
+  // Meshes: a link to /dev/zero, a sparse 600 MiB file, one outside the folder, allowed by option.
+  const auto sceneWithMesh = [&](const std::string& file) {
+    const fs::path scene = root / "scene" / "mesh.json";
+    std::ofstream(scene) << R"({"bodies": [{"name": "ground", "static": true, "shapes": [)"
+                         << R"({"type": "mesh", "file": ")" << file << R"("}]}]})";
+    return scene;
+  };
+  // A link to /dev/zero leads out of the folder; allowed out, it is still no regular file.
+  linx::ImportOptions allow;
+  allow.allow_outside_paths = true;
+  fs::create_symlink("/dev/zero", root / "scene" / "zero.obj");
+  EXPECT_NE(problem(sceneWithMesh("zero.obj")).find("is outside the scene's folder"),
+            std::string::npos);
+  EXPECT_EQ(problem(sceneWithMesh("zero.obj"), allow),
+            "bodies[0].shapes[0].file: mesh file " + (root / "scene" / "zero.obj").string() +
+                ": not a regular file (a device, a pipe or a socket)");
+  {
+    std::ofstream(root / "scene" / "big.obj") << "v 0 0 0\n";
+    fs::resize_file(root / "scene" / "big.obj", 600 * 1024 * 1024);
+  }
+  EXPECT_NE(problem(sceneWithMesh("big.obj"))
+                .find("big.obj: is 600 MiB, above the limit of 512 MiB for a mesh"),
+            std::string::npos);
+  std::ofstream(root / "elsewhere" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const std::string outside = problem(sceneWithMesh("../elsewhere/tri.obj"));
+  EXPECT_EQ(outside.rfind("bodies[0].shapes[0].file: '", 0), 0u) << outside;
+  EXPECT_NE(outside.find("' is outside the scene's folder " +
+                         fs::canonical(root / "scene").string() +
+                         " (linx reads only files there; --allow-outside-paths lifts this)"),
+            std::string::npos)
+      << outside;
+  // A link inside the folder that leads out is outside too; the option lets both be read.
+  fs::create_symlink(root / "elsewhere" / "tri.obj", root / "scene" / "link.obj");
+  EXPECT_NE(problem(sceneWithMesh("link.obj")).find("is outside the scene's folder"),
+            std::string::npos);
+  EXPECT_EQ(problem(sceneWithMesh("../elsewhere/tri.obj"), allow), "accepted");
+  EXPECT_EQ(problem(sceneWithMesh("link.obj"), allow), "accepted");
+  std::ofstream(root / "scene" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  EXPECT_EQ(problem(sceneWithMesh("tri.obj")), "accepted");
+  fs::remove_all(root);
 }
 
 TEST(SceneError, MalformedJson) {

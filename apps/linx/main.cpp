@@ -59,6 +59,7 @@ struct ConvertOptions {
   std::string input;
   std::string output;
   bool floating_base = false;  // a URDF's root link is free
+  bool allow_outside_paths = false;
 };
 
 // Writes `text` to `path` through a temporary file in the same folder, renamed into place: the
@@ -86,8 +87,9 @@ int convert(const ConvertOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(options.output, ec))
     throw BadInput(fmt::format("{}: is a directory, expected a file to write", options.output));
-  const linx::Scene scene =
-      linx::loadModel(options.input, linx::ImportOptions{.floating_base = options.floating_base});
+  const linx::Scene scene = linx::loadModel(
+      options.input, linx::ImportOptions{.floating_base = options.floating_base,
+                                         .allow_outside_paths = options.allow_outside_paths});
   for (const std::string& warning : scene.warnings)
     fmt::print(stderr, "linx: warning: {}\n", warning);
   writeAtomically(options.output, linx::writeSceneJson(scene));
@@ -169,6 +171,11 @@ int main(int argc, char** argv) {
         std::pair{convert_cmd, &convert_options.floating_base}})
     cmd->add_flag("--floating-base", *floating_base,
                   "URDF: the root link is a free body, not fixed to the world");
+  for (auto [cmd, allow] : {std::pair{run_cmd, &options.allow_outside_paths},
+                            std::pair{check_cmd, &options.allow_outside_paths},
+                            std::pair{convert_cmd, &convert_options.allow_outside_paths}})
+    cmd->add_flag("--allow-outside-paths", *allow,
+                  "Read files the scene names (meshes, tables, includes) outside its folder too");
 
   std::string resume_from;
   CLI::App* resume_cmd = app.add_subcommand(

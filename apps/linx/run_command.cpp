@@ -64,7 +64,9 @@ struct Prepared {
 
 // Loads the scene, applies the flags and builds the world: everything that can reject the input.
 Prepared prepare(const RunOptions& options) {
-  Scene scene = loadModel(options.scene, ImportOptions{.floating_base = options.floating_base});
+  Scene scene =
+      loadModel(options.scene, ImportOptions{.floating_base = options.floating_base,
+                                             .allow_outside_paths = options.allow_outside_paths});
   for (const std::string& warning : scene.warnings)
     fmt::print(stderr, "linx: warning: {}\n", warning);
   if (options.duration) scene.duration = *options.duration;
@@ -203,8 +205,8 @@ int simulate(Session& s) {
       const fs::path saved =
           writeRunCheckpoint(s, last_good, last_good_output, last_good_frames, last_good_step);
       fmt::print(stderr, "linx: {}: {}; {}; the last good state (t = {} s) is in {}\n",
-                 s.run.source, e.what(), keptOutput(s, last_frame_time),
-                 last_good_time, saved.string());
+                 s.run.source, e.what(), keptOutput(s, last_frame_time), last_good_time,
+                 saved.string());
       return kExitNonFinite;
     }
     reportBreaks(world, breaks_reported, progress);

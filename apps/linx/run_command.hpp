@@ -17,9 +17,10 @@ struct RunOptions {
   std::optional<double> checkpoint_every;  ///< (s) simulated time between checkpoints
   bool keep_going = false;                 ///< --on-fault continue
   bool contacts = false;
-  bool vtk = false;            ///< also write ParaView files (DIR/vtk/, DIR/run.pvd)
-  bool render = false;         ///< then render POV-Ray frames (linx render DIR)
-  bool floating_base = false;  ///< a URDF's root link is free
+  bool vtk = false;                  ///< also write ParaView files (DIR/vtk/, DIR/run.pvd)
+  bool render = false;               ///< then render POV-Ray frames (linx render DIR)
+  bool floating_base = false;        ///< a URDF's root link is free
+  bool allow_outside_paths = false;  ///< read files the scene names outside its folder
 };
 
 /// Validates the scene and prints a summary; 0, or throws as the scene reader does.

@@ -9,12 +9,6 @@
 
 namespace linx {
 
-struct ImportOptions {
-  /// URDF: the root link is a free body (a mobile robot, a dropped object) instead of being fixed
-  /// to the world.
-  bool floating_base = false;
-};
-
 /// Reads a URDF robot (through urdfdom): one body per link with its inertial, the link frames at
 /// the joints' zero positions, one joint per URDF joint, collision geometry as shapes. Links that
 /// a fixed joint attaches and that have no mass become part of their parent. What linx does not

@@ -64,10 +64,21 @@ struct Scene {
   std::vector<std::string> warnings;
 };
 
-/// Reads and validates a scene file. Throws SceneError.
-Scene loadScene(const std::filesystem::path& path);
-/// Parses and validates scene text; `file` names it in messages. Throws SceneError.
-Scene parseScene(std::string_view text, const std::string& file);
+/// How model and scene files are read (loadScene, loadModel, importUrdf, importMjcf).
+struct ImportOptions {
+  /// URDF: the root link is a free body (a mobile robot, a dropped object) instead of being fixed
+  /// to the world.
+  bool floating_base = false;
+  /// Read files the model names (meshes, tables, includes) outside the model file's folder too
+  /// (`--allow-outside-paths`); by default such a file is refused.
+  bool allow_outside_paths = false;
+};
+
+/// Reads and validates a scene file (at most 256 MiB, docs/reliability.md). Throws SceneError.
+Scene loadScene(const std::filesystem::path& path, const ImportOptions& options = {});
+/// Parses and validates scene text; `file` names it in messages and is where files it names are
+/// looked for. Throws SceneError.
+Scene parseScene(std::string_view text, const std::string& file, const ImportOptions& options = {});
 /// The scene as the text of a scene file (docs/scene-format.md) that parseScene reads back to a
 /// scene whose world behaves the same to the bit: meshes inline, tables from CSV files inline,
 /// defaults left out. Throws std::runtime_error naming a field no scene file can hold.

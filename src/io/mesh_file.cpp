@@ -1,6 +1,8 @@
 // Reading OBJ and STL meshes (io/mesh_file.hpp).
 #include "io/mesh_file.hpp"
 
+#include "io/input_file.hpp"
+
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
 
@@ -37,9 +39,12 @@ std::string lowerExtension(const std::string& path) {
 }
 
 std::string readAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open it (missing or unreadable)");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  try {
+    bytes = readInputFile(path, kMeshLimit, "a mesh");
+  } catch (const std::runtime_error& e) {
+    fail(path, e.what());
+  }
   if (bytes.empty()) fail(path, "the file is empty");
   return bytes;
 }
@@ -157,12 +162,14 @@ void checkObjVertices(const std::string& path, const std::string& bytes) {
 }
 
 void readObj(const std::string& path, ShapeDef& mesh) {
-  checkObjVertices(path, readAll(path));  // missing / empty, bad numbers: with our messages
+  const std::string text = readAll(path);
+  checkObjVertices(path, text);  // missing / empty, bad numbers: with our messages
   tinyobj::ObjReader reader;
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
-  if (!reader.ParseFromFile(path, config)) {
+  // From the text read (the file checked is the file parsed); materials are not used.
+  if (!reader.ParseFromString(text, "", config)) {
     std::string error = reader.Error();
     while (!error.empty() && (error.back() == '\n' || error.back() == '\r')) error.pop_back();
     fail(path, fmt::format("OBJ: {}", error.empty() ? "cannot parse it" : error));

@@ -9,6 +9,7 @@
 #include <linx/mass_properties.hpp>
 
 #include "io/import_check.hpp"
+#include "io/input_file.hpp"
 
 #include <fmt/format.h>
 #include <tinyxml2.h>
@@ -37,7 +38,8 @@ using Attributes = std::map<std::string, std::string>;
 
 class MjcfImporter {
  public:
-  explicit MjcfImporter(const std::filesystem::path& path) : path_(path), file_(path.string()) {}
+  MjcfImporter(const std::filesystem::path& path, const ImportOptions& options)
+      : path_(path), file_(path.string()), options_(options) {}
 
   Scene run() {
     load(path_, doc_);
@@ -77,10 +79,13 @@ class MjcfImporter {
   // ---- reading ----
 
   static void load(const std::filesystem::path& path, tinyxml2::XMLDocument& doc) {
-    if (doc.LoadFile(path.string().c_str()) != tinyxml2::XML_SUCCESS) {
-      if (doc.ErrorID() == tinyxml2::XML_ERROR_FILE_NOT_FOUND ||
-          doc.ErrorID() == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED)
-        throw SceneError(path.string(), "", "cannot open the file");
+    std::string text;
+    try {
+      text = io::readInputFile(path, io::kModelLimit, "an MJCF file");
+    } catch (const std::runtime_error& e) {
+      throw SceneError(path.string(), "", e.what());
+    }
+    if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
       throw SceneError(path.string(), fmt::format("line {}", doc.ErrorLineNum()),
                        fmt::format("not well-formed XML: {}", doc.ErrorStr()));
     }
@@ -97,6 +102,11 @@ class MjcfImporter {
         const char* name = e->Attribute("file");
         if (!name) fail("include", "needs a file");
         const std::filesystem::path included = dir / name;
+        try {
+          io::checkInsideFolder(included, path_.parent_path(), options_.allow_outside_paths);
+        } catch (const std::runtime_error& e) {
+          fail("include", e.what());
+        }
         tinyxml2::XMLDocument other;
         load(included, other);
         XMLElement* other_root = other.FirstChildElement("mujoco");
@@ -738,6 +748,7 @@ class MjcfImporter {
 
   std::filesystem::path path_;
   std::string file_;
+  ImportOptions options_;
   tinyxml2::XMLDocument doc_;
   Scene scene_;
   bool degrees_ = true;  // MuJoCo's default
@@ -753,8 +764,8 @@ class MjcfImporter {
 
 }  // namespace
 
-Scene importMjcf(const std::filesystem::path& path, const ImportOptions&) {
-  return MjcfImporter(path).run();
+Scene importMjcf(const std::filesystem::path& path, const ImportOptions& options) {
+  return MjcfImporter(path, options).run();
 }
 
 }  // namespace linx

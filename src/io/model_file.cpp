@@ -13,7 +13,7 @@ Scene loadModel(const std::filesystem::path& path, const ImportOptions& options)
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".urdf") return importUrdf(path, options);
   if (extension == ".xml") return importMjcf(path, options);
-  return loadScene(path);
+  return loadScene(path, options);
 }
 
 }  // namespace linx

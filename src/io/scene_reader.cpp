@@ -24,6 +24,7 @@
 #include <utility>
 
 #include "collision/geometry.hpp"
+#include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
 
 namespace linx {
@@ -178,7 +179,7 @@ struct Node {
 // Validating readers for each part of the format. Each one fails with the path of the field.
 class Reader {
  public:
-  explicit Reader(const std::string& file) : file_(file) {}
+  Reader(const std::string& file, const ImportOptions& options) : file_(file), options_(options) {}
 
   [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
     throw SceneError(file_, path, problem);
@@ -519,8 +520,8 @@ class Reader {
   }
 
   FaultSettings faults(const Node& n) const {
-    allowOnly(n, {"energy", "kinetic_fraction", "height", "speed", "max_speed",
-                  "max_angular_speed", "max_joint_error", "joint_error_every"});
+    allowOnly(n, {"energy", "kinetic_fraction", "height", "speed", "max_speed", "max_angular_speed",
+                  "max_joint_error", "joint_error_every"});
     FaultSettings s;
     if (auto v = get(n, "energy")) s.energy = boolean(*v);
     if (auto v = get(n, "kinetic_fraction")) s.kinetic_fraction = nonNegative(*v);
@@ -658,6 +659,8 @@ class Reader {
       const std::filesystem::path path = std::filesystem::path(file_).parent_path() / string(*file);
       ShapeDef loaded;
       try {
+        io::checkInsideFolder(path, std::filesystem::path(file_).parent_path(),
+                              options_.allow_outside_paths);
         loaded = io::loadMeshFile(path.string());
       } catch (const std::exception& e) {
         fail(file->path, e.what());
@@ -1213,6 +1216,12 @@ class Reader {
         if (n.value.contains(key))
           fail(childPath(n.path, key), "give either a file or times and values");
       const std::filesystem::path path = std::filesystem::path(file_).parent_path() / string(*file);
+      try {
+        io::checkInsideFolder(path, std::filesystem::path(file_).parent_path(),
+                              options_.allow_outside_paths);
+      } catch (const std::runtime_error& e) {
+        fail(file->path, e.what());
+      }
       table = tableFile(path, file->path);
     } else {
       const auto column = [&](std::string_view key) {
@@ -1240,8 +1249,13 @@ class Reader {
 
   // Two columns of numbers, time and value, one row per line; the first line may be a header.
   Signal tableFile(const std::filesystem::path& path, const std::string& field) const {
-    std::ifstream in(path);
-    if (!in) fail(field, fmt::format("cannot read '{}'", path.string()));
+    std::string text;
+    try {
+      text = io::readInputFile(path, io::kTableLimit, "a table");
+    } catch (const std::runtime_error& e) {
+      fail(field, fmt::format("cannot read '{}': {}", path.string(), e.what()));
+    }
+    std::istringstream in(text);
     Signal table({}, {});
     std::string line;
     for (int number = 1; std::getline(in, line); ++number) {
@@ -1288,6 +1302,7 @@ class Reader {
   }
 
   const std::string& file_;
+  ImportOptions options_;
 };
 
 // nlohmann messages start with "[json.exception.parse_error.101] parse error at ".
@@ -1300,7 +1315,7 @@ std::string stripPrefix(const std::string& message, std::string_view marker) {
 
 }  // namespace
 
-Scene parseScene(std::string_view text, const std::string& file) {
+Scene parseScene(std::string_view text, const std::string& file, const ImportOptions& options) {
   json root;
   PathTracker tracker(file);
   try {
@@ -1321,22 +1336,18 @@ Scene parseScene(std::string_view text, const std::string& file) {
     const std::string path = tracker.current();
     throw SceneError(file, path.empty() ? "(json)" : path, stripPrefix(e.what(), "] "));
   }
-  return Reader(file).scene(root);
+  return Reader(file, options).scene(root);
 }
 
-Scene loadScene(const std::filesystem::path& path) {
+Scene loadScene(const std::filesystem::path& path, const ImportOptions& options) {
   const std::string file = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw SceneError(file, "", "is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const std::error_code why(errno, std::generic_category());
-    throw SceneError(file, "", fmt::format("cannot open: {}", why.message()));
+  std::string text;
+  try {
+    text = io::readInputFile(path, io::kSceneLimit, "a scene");
+  } catch (const std::runtime_error& e) {
+    throw SceneError(file, "", e.what());
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw SceneError(file, "", "cannot read");
-  return parseScene(text.str(), file);
+  return parseScene(text, file, options);
 }
 
 }  // namespace linx

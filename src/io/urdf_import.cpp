@@ -10,6 +10,7 @@
 #include <linx/import.hpp>
 
 #include "io/import_check.hpp"
+#include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
 
 #include <console_bridge/console.h>
@@ -137,23 +138,29 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& text, const std::string& 
   return model;
 }
 
-// "package://pkg/meshes/a.stl" and "file:///abs/a.stl" to a file: a package is looked for as a
-// folder named pkg in the URDF's folder and its parents (a ROS workspace's layout).
-std::filesystem::path meshPath(const std::string& uri, const std::filesystem::path& urdf_dir) {
+// "package://pkg/meshes/a.stl" and "file:///abs/a.stl" to a file, and the folder it must lie in
+// (unless outside paths are allowed): a package is looked for as a folder named pkg in the URDF's
+// folder and its parents (a ROS workspace's layout), and its files lie in it; every other file
+// lies in the URDF's folder.
+struct MeshFile {
+  std::filesystem::path file, folder;
+};
+
+MeshFile meshPath(const std::string& uri, const std::filesystem::path& urdf_dir) {
   constexpr std::string_view package = "package://", file = "file://";
-  if (uri.rfind(file, 0) == 0) return uri.substr(file.size());
-  if (uri.rfind(package, 0) != 0) return urdf_dir / uri;
+  if (uri.rfind(file, 0) == 0) return {uri.substr(file.size()), urdf_dir};
+  if (uri.rfind(package, 0) != 0) return {urdf_dir / uri, urdf_dir};
   const std::string rest = uri.substr(package.size());
   const std::size_t slash = rest.find('/');
   const std::string name = rest.substr(0, slash);
   const std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
   for (std::filesystem::path dir = std::filesystem::absolute(urdf_dir); !dir.empty();
        dir = dir.parent_path()) {
-    if (dir.filename() == name) return dir / inside;
-    if (std::filesystem::is_directory(dir / name)) return dir / name / inside;
+    if (dir.filename() == name) return {dir / inside, dir};
+    if (std::filesystem::is_directory(dir / name)) return {dir / name / inside, dir / name};
     if (dir == dir.parent_path()) break;
   }
-  return urdf_dir / inside;  // not found: the message names this path
+  return {urdf_dir / inside, urdf_dir};  // not found: the message names this path
 }
 
 class UrdfImporter {
@@ -185,11 +192,11 @@ class UrdfImporter {
 
  private:
   std::string readText() const {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) throw SceneError(file_, "", "cannot open the file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
+    try {
+      return io::readInputFile(path_, io::kModelLimit, "a URDF file");
+    } catch (const std::runtime_error& e) {
+      throw SceneError(file_, "", e.what());
+    }
   }
 
   [[noreturn]] void fail(const std::string& where, const std::string& problem) const {
@@ -321,9 +328,10 @@ class UrdfImporter {
       }
       case urdf::Geometry::MESH: {
         const auto& m = static_cast<const urdf::Mesh&>(g);
-        const std::filesystem::path file = meshPath(m.filename, path_.parent_path());
+        const MeshFile mesh = meshPath(m.filename, path_.parent_path());
         try {
-          s = io::loadMeshFile(file.string());
+          io::checkInsideFolder(mesh.file, mesh.folder, options_.allow_outside_paths);
+          s = io::loadMeshFile(mesh.file.string());
         } catch (const std::exception& e) {
           fail(where, e.what());
         }
