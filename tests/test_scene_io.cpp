@@ -1,6 +1,7 @@
 // Scene files (docs/scene-format.md): valid scenes become the right definitions, every kind of
 // mistake is reported with the path of the field and what is wrong, and the example scenes load
 // and build.
+#include <linx/import.hpp>
 #include <linx/scene.hpp>
 
 #include <gtest/gtest.h>
@@ -422,10 +423,10 @@ TEST(SceneError, DevicesPipesHugeFilesAndOutsidePathsAreRefused) {
   std::ofstream(root / "elsewhere" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   const std::string outside = problem(sceneWithMesh("../elsewhere/tri.obj"));
   EXPECT_EQ(outside.rfind("bodies[0].shapes[0].file: '", 0), 0u) << outside;
-  EXPECT_NE(outside.find("' is outside the scene's folder " +
-                         fs::canonical(root / "scene").string() +
-                         " (linx reads only files there; --allow-outside-paths lifts this)"),
-            std::string::npos)
+  EXPECT_NE(
+      outside.find("' is outside the scene's folder " + fs::canonical(root / "scene").string() +
+                   " (linx reads only files there; --allow-outside-paths lifts this)"),
+      std::string::npos)
       << outside;
   // A link inside the folder that leads out is outside too; the option lets both be read.
   fs::create_symlink(root / "elsewhere" / "tri.obj", root / "scene" / "link.obj");
@@ -436,6 +437,40 @@ TEST(SceneError, DevicesPipesHugeFilesAndOutsidePathsAreRefused) {
   std::ofstream(root / "scene" / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   EXPECT_EQ(problem(sceneWithMesh("tri.obj")), "accepted");
   fs::remove_all(root);
+}
+
+// A thousand identical hinges took 100 s a step (a dense solve of redundant rows): loadModel names
+// such repeats with a warning, one per group; joints that differ in anchor, axis, type or bodies
+// are not repeats.
+TEST(SceneRead, RepeatedJointsAreNamedWithAWarning) {
+  namespace fs = std::filesystem;
+  const fs::path file =
+      fs::temp_directory_path() / ("linx_repeats_" + std::to_string(::getpid()) + ".json");
+  json scene = {{"bodies", json::array()}, {"joints", json::array()}};
+  for (const char* name : {"a", "b"})
+    scene["bodies"].push_back({{"name", name}, {"mass", 1}, {"inertia", {1, 1, 1}}});
+  const auto hinge = [](const std::string& name, std::vector<double> anchor,
+                        std::vector<double> axis, const char* b1 = "a", const char* b2 = "b") {
+    return json{{"name", name}, {"type", "hinge"},  {"body1", b1},
+                {"body2", b2},  {"anchor", anchor}, {"axis", axis}};
+  };
+  for (const char* name : {"h0", "h1", "h2", "h3", "h4"})
+    scene["joints"].push_back(hinge(name, {0, 0, 0}, {0, 0, 1}));
+  scene["joints"].push_back(hinge("flipped", {0, 0, 0}, {0, 0, -1}, "b", "a"));  // the same hinge
+  scene["joints"].push_back(hinge("other_axis", {0, 0, 0}, {0, 1, 0}));
+  scene["joints"].push_back(hinge("other_anchor", {0, 0, 1e-3}, {0, 0, 1}));
+  scene["joints"].push_back(hinge("to_world", {0, 0, 0}, {0, 0, 1}, "a", "world"));
+  std::ofstream(file) << scene.dump();
+  const linx::Scene loaded = linx::loadModel(file);
+  fs::remove(file);
+  ASSERT_EQ(loaded.warnings.size(), 1u);
+  std::string expected = file.string();
+  expected +=
+      ": joints[0] (h0) repeated by 5 more (joints[1] (h1), joints[2] (h2), joints[3] "
+      "(h3), ...): the same hinge between bodies 'a' and 'b' at the same anchor and "
+      "axis; their rows are redundant, which the exact solver solves densely at a cost "
+      "growing with the cube of their number; keep one";
+  EXPECT_EQ(loaded.warnings[0], expected);
 }
 
 TEST(SceneError, MalformedJson) {

@@ -24,7 +24,8 @@ Scene importUrdf(const std::filesystem::path& path, const ImportOptions& options
 Scene importMjcf(const std::filesystem::path& path, const ImportOptions& options = {});
 
 /// A model file by its extension: `.urdf` (importUrdf), `.xml` (importMjcf), anything else a JSON
-/// scene (loadScene).
+/// scene (loadScene). Joints that repeat one another (the same type between the same bodies at
+/// the same anchor and axis) are named in Scene::warnings.
 Scene loadModel(const std::filesystem::path& path, const ImportOptions& options = {});
 
 }  // namespace linx

@@ -1,9 +1,12 @@
 // Model files of every format linx reads, told apart by their extension.
 #include <linx/import.hpp>
 
+#include "io/redundant_joints.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <string>
+#include <utility>
 
 namespace linx {
 
@@ -11,9 +14,12 @@ Scene loadModel(const std::filesystem::path& path, const ImportOptions& options)
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension == ".urdf") return importUrdf(path, options);
-  if (extension == ".xml") return importMjcf(path, options);
-  return loadScene(path, options);
+  Scene scene = extension == ".urdf"  ? importUrdf(path, options)
+                : extension == ".xml" ? importMjcf(path, options)
+                                      : loadScene(path, options);
+  for (std::string& warning : io::redundantJointWarnings(scene))
+    scene.warnings.push_back(std::move(warning));
+  return scene;
 }
 
 }  // namespace linx

@@ -1,0 +1,69 @@
+#include "io/redundant_joints.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstddef>
+
+namespace linx::io {
+
+namespace {
+
+// Within these, two anchors are one point and two axes one direction.
+constexpr double kSamePoint = 1e-6;  // (m)
+constexpr double kSameAngle = 1e-6;  // (rad)
+constexpr std::size_t kNamed = 3;    // repeats named in a warning
+
+bool sameJoint(const SceneJoint& a, const SceneJoint& b) {
+  const JointDef &p = a.def, &q = b.def;
+  if (a.type != b.type || p.local != q.local) return false;
+  const bool same_order = p.body1 == q.body1 && p.body2 == q.body2;
+  const bool swapped = p.body1 == q.body2 && p.body2 == q.body1;
+  // A local frame belongs to its body: only the same order compares.
+  if (!(same_order || (swapped && !p.local))) return false;
+  if (p.anchor.has_value() != q.anchor.has_value()) return false;
+  if (p.anchor && (*p.anchor - *q.anchor).norm() > kSamePoint) return false;
+  const Vec3 u = p.axis.normalized(), v = q.axis.normalized();
+  return u.cross(v).norm() <= kSameAngle;
+}
+
+std::string bodyName(const Scene& scene, BodyId id) {
+  return id.isWorld() ? std::string("world")
+                      : "'" + scene.bodies[static_cast<std::size_t>(id.index)].name + "'";
+}
+
+}  // namespace
+
+std::vector<std::string> redundantJointWarnings(const Scene& scene) {
+  std::vector<std::string> warnings;
+  const std::size_t n = scene.joints.size();
+  std::vector<bool> grouped(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (grouped[i]) continue;
+    std::vector<std::size_t> repeats;
+    for (std::size_t j = i + 1; j < n; ++j) {
+      if (!grouped[j] && sameJoint(scene.joints[i], scene.joints[j])) {
+        grouped[j] = true;
+        repeats.push_back(j);
+      }
+    }
+    if (repeats.empty()) continue;
+    const auto named = [&](std::size_t k) {
+      return fmt::format("joints[{}] ({})", k, scene.joints[k].def.name);
+    };
+    std::string list;
+    for (std::size_t k = 0; k < std::min(repeats.size(), kNamed); ++k)
+      list += (k ? ", " : "") + named(repeats[k]);
+    if (repeats.size() > kNamed) list += ", ...";
+    const JointDef& d = scene.joints[i].def;
+    warnings.push_back(fmt::format(
+        "{}: {} repeated by {} more ({}): the same {} between bodies {} and {} at the same anchor "
+        "and axis; their rows are redundant, which the exact solver solves densely at a cost "
+        "growing with the cube of their number; keep one",
+        scene.file, named(i), repeats.size(), list, scene.joints[i].type, bodyName(scene, d.body1),
+        bodyName(scene, d.body2)));
+  }
+  return warnings;
+}
+
+}  // namespace linx::io
