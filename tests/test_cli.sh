@@ -388,6 +388,19 @@ EOF
     expect_error_line "linx: --checkpoint-every: must be a finite number > 0, got 0"
     ;;
 
+  soak)
+    # A short soak of a contact scene and a jointed one: memory reported, flat after warm-up.
+    expect 0 "$linx" soak "$examples/box_stack.json" "$examples/hinge_chain.json" --steps 20000 \
+      --report-every 5000
+    [ "$(grep -c "after warm-up (step 2000), at most .* (flat)$" out.txt)" -eq 2 ] ||
+      fail "soak: expected two flat heaps"
+    [ "$(grep -c "^     20000 " out.txt)" -eq 2 ] || fail "soak: no report at the last step"
+    expect 2 "$linx" soak "$examples/pyramid.json" --steps 5
+    expect_error_line "linx: --steps: must be at least 10, got 5"
+    expect 2 "$linx" soak missing.json
+    expect_error_line "linx: missing.json: cannot open: No such file or directory"
+    ;;
+
   plot)
     # linx plot: four PNG pictures of the asked size and their SVGs, drawn from the run's numbers.
     expect 0 "$linx" run "$examples/double_pendulum.json" --out run --duration 0.5 --every 10

@@ -1,7 +1,7 @@
 // The `linx` command line (docs/scene-format.md, "Command line"; docs/visualization.md):
 //   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--threads N] [--every N]
 //            [--checkpoint-every T] [--on-fault stop|continue] [--contacts] [--vtk] [--render]
-//   linx resume DIR|CHECKPOINT   (docs/reliability.md)
+//   linx resume DIR|CHECKPOINT   linx soak SCENE... [--steps N]   (docs/reliability.md)
 //   linx check SCENE.json   (SCENE may be ROBOT.urdf [--floating-base] or MODEL.xml, MJCF)
 //   linx convert SCENE.json|ROBOT.urdf OUT.json [--floating-base]
 //   linx render DIR ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
@@ -14,6 +14,7 @@
 #include "progress.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
+#include "soak_command.hpp"
 #include "view_command.hpp"
 #include "viz/run.hpp"
 #include "viz/vtk.hpp"
@@ -185,6 +186,11 @@ int main(int argc, char** argv) {
                    "Run folder (its newest checkpoint) or checkpoint file (DIR/checkpoints/*.lxc)")
       ->required();
 
+  linx::cli::SoakOptions soak_options;
+  CLI::App* soak_cmd = app.add_subcommand(
+      "soak", "Step scenes a long time (a million steps) and report their memory and faults");
+  linx::cli::addSoakOptions(*soak_cmd, soak_options);
+
   linx::cli::RenderOptions render_options;
   CLI::App* render_cmd =
       app.add_subcommand("render", "Render a run's frames with POV-Ray (PNG, and MP4 or GIF)");
@@ -225,6 +231,7 @@ int main(int argc, char** argv) {
     }
     if (*render_cmd) return linx::cli::render(render_options);
     if (*vtk_cmd) return linx::cli::writeVtk(vtk_dir);
+    if (*soak_cmd) return linx::cli::soak(soak_options);
     if (*resume_cmd) {
       options.scene = resume_from;  // names the checkpoint in messages
       return linx::cli::resume(resume_from);
