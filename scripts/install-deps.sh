@@ -9,7 +9,7 @@ set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
           libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libqhull-dev
           libtinyobjloader-dev liburdfdom-dev libtinyxml2-dev zlib1g-dev libmujoco-dev libmujoco-samples
-          povray ffmpeg gnuplot-nox fonts-dejavu-core libpng-dev libcpp-httplib-dev chromium)
+          povray ffmpeg gnuplot-nox fonts-dejavu-core libpng-dev libcpp-httplib-dev chromium curl)
 if ! command -v npm >/dev/null || ! command -v node >/dev/null; then packages+=(nodejs npm); fi
 if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev libdart-dev); fi
 

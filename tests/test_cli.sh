@@ -388,6 +388,50 @@ EOF
     expect_error_line "linx: --checkpoint-every: must be a finite number > 0, got 0"
     ;;
 
+  view_server)
+    # linx view: a stalled client does not block others, a request for many ranges is refused,
+    # and only the files there when it started are served: a file swapped for a link later is not.
+    expect 0 "$linx" run "$examples/pendulum.json" --out run --duration 0.1
+    cp run/bodies.csv bodies.orig
+    echo "a secret" >secret.txt
+    "$linx" view run --port 0 >view.txt 2>view_err.txt &
+    pid=$!
+    for _ in $(seq 100); do
+      grep -q "http://127.0.0.1:" view.txt && break
+      sleep 0.1
+    done
+    port=$(sed -n 's|.*http://127.0.0.1:\([0-9]*\)/.*|\1|p' view.txt)
+    [ -n "$port" ] || { kill "$pid"; fail "linx view did not start"; }
+    # Twenty connections that send nothing, then a real request: answered within the timeout.
+    stalled=()
+    for _ in $(seq 20); do
+      exec {fd}<>"/dev/tcp/127.0.0.1/$port"
+      stalled+=("$fd")
+    done
+    start=$(date +%s%N)
+    curl -s -m 10 -o manifest.json "http://127.0.0.1:$port/run/manifest.json" ||
+      { kill "$pid"; fail "a request behind stalled connections was not answered"; }
+    elapsed_ms=$((($(date +%s%N) - start) / 1000000))
+    for fd in "${stalled[@]}"; do exec {fd}>&-; done
+    [ "$elapsed_ms" -lt 6000 ] || { kill "$pid"; fail "answered after $elapsed_ms ms"; }
+    grep -q '"bodies.csv"' manifest.json || { kill "$pid"; fail "manifest: $(cat manifest.json)"; }
+    # Four ranges are served; 800 are refused.
+    code=$(curl -s -o /dev/null -w '%{http_code}' -H "Range: bytes=0-0,2-2,4-4,6-6" \
+      "http://127.0.0.1:$port/run/bodies.csv")
+    [ "$code" = "206" ] || { kill "$pid"; fail "four ranges: HTTP $code"; }
+    many=$(seq 0 2 1598 | sed 's/.*/&-&/' | paste -sd, -)
+    code=$(curl -s -o /dev/null -w '%{http_code}' -H "Range: bytes=$many" \
+      "http://127.0.0.1:$port/run/bodies.csv")
+    [ "$code" = "416" ] || { kill "$pid"; fail "800 ranges: HTTP $code"; }
+    # bodies.csv swapped for a link to another file: the original is what is served.
+    mv run/bodies.csv run/moved.csv
+    ln -s ../secret.txt run/bodies.csv
+    curl -s -o served.csv "http://127.0.0.1:$port/run/bodies.csv"
+    kill -TERM "$pid"
+    wait "$pid"
+    cmp -s served.csv bodies.orig || fail "a file swapped for a link was served: $(head -c 80 served.csv)"
+    ;;
+
   soak)
     # A short soak of a contact scene and a jointed one: memory reported, flat after warm-up.
     expect 0 "$linx" soak "$examples/box_stack.json" "$examples/hinge_chain.json" --steps 20000 \

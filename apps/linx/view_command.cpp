@@ -2,6 +2,11 @@
 
 #include <sys/socket.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -39,13 +44,9 @@ extern const std::size_t kViewerPageSize;
 
 namespace {
 
-// Whether `name` is one of the files served from the run folder: those of the run file list that
-// are read back (docs/scene-format.md, "Outputs").
-bool servedRunFile(std::string_view name) {
-  for (const run_files::RunFile& f : run_files::kAll)
-    if (f.read_back && f.name == name) return true;
-  return false;
-}
+constexpr std::chrono::seconds kIoTimeout{2};
+constexpr std::size_t kWorkers = 16;
+constexpr std::size_t kMaxRanges = 4;
 
 std::string jsonString(std::string_view s) {
   std::string out = "\"";
@@ -67,29 +68,72 @@ std::string jsonString(std::string_view s) {
   return out + "\"";
 }
 
-bool readFile(const std::filesystem::path& path, std::string& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream text;
-  text << in.rdbuf();
-  out = std::move(text).str();
-  return !in.bad();
-}
-
-// Which run files exist, and the folder's name: what the page fetches first.
-std::string manifest(const std::filesystem::path& dir) {
-  std::string files;
-  for (const run_files::RunFile& file : run_files::kAll) {
-    if (!file.read_back) continue;
-    const std::string_view name = file.name;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(dir / name, ec)) continue;
-    files += (files.empty() ? "" : ",") + jsonString(name);
+// The run's files, opened once when the server starts: only these are served, always the files
+// that were there then (O_NOFOLLOW: a link is not one of them), read through their descriptors,
+// so that a file renamed, replaced or turned into a link later cannot be served in its place. A
+// file still being written (a run in progress) is served as far as it has grown.
+class RunFiles {
+ public:
+  explicit RunFiles(const std::filesystem::path& dir) {
+    for (const run_files::RunFile& file : run_files::kAll) {
+      if (!file.read_back) continue;
+      const std::string name(file.name);
+      const int fd = ::open((dir / name).c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+      if (fd < 0) continue;
+      struct stat st {};
+      if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        ::close(fd);
+        continue;
+      }
+      files_.emplace_back(name, fd);
+    }
   }
-  const std::filesystem::path abs = std::filesystem::absolute(dir).lexically_normal();
-  std::string name = abs.filename().string();
-  if (name.empty()) name = abs.parent_path().filename().string();
-  return fmt::format("{{\"name\":{},\"files\":[{}]}}\n", jsonString(name), files);
+  ~RunFiles() {
+    for (const auto& [name, fd] : files_) ::close(fd);
+  }
+  RunFiles(const RunFiles&) = delete;
+  RunFiles& operator=(const RunFiles&) = delete;
+
+  /// The file's bytes now, or false for a name that is not served.
+  bool read(std::string_view name, std::string& out) const {
+    for (const auto& [served, fd] : files_) {
+      if (served != name) continue;
+      struct stat st {};
+      if (::fstat(fd, &st) != 0) return false;
+      out.resize(static_cast<std::size_t>(st.st_size));
+      std::size_t done = 0;
+      while (done < out.size()) {
+        const ssize_t n =
+            ::pread(fd, out.data() + done, out.size() - done, static_cast<off_t>(done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        done += static_cast<std::size_t>(n);
+      }
+      out.resize(done);
+      return true;
+    }
+    return false;
+  }
+
+  /// Which run files are served, and the folder's name: what the page fetches first.
+  std::string manifest(const std::filesystem::path& dir) const {
+    std::string names;
+    for (const auto& [name, fd] : files_) names += (names.empty() ? "" : ",") + jsonString(name);
+    const std::filesystem::path abs = std::filesystem::absolute(dir).lexically_normal();
+    std::string folder = abs.filename().string();
+    if (folder.empty()) folder = abs.parent_path().filename().string();
+    return fmt::format("{{\"name\":{},\"files\":[{}]}}\n", jsonString(folder), names);
+  }
+
+ private:
+  std::vector<std::pair<std::string, int>> files_;
+};
+
+// A request's byte ranges ("Range: bytes=0-99,200-299"): how many it asks for.
+std::size_t rangeCount(const httplib::Request& req) {
+  if (!req.has_header("Range")) return 0;
+  const std::string range = req.get_header_value("Range");
+  return 1 + static_cast<std::size_t>(std::count(range.begin(), range.end(), ','));
 }
 
 // Sends `size` bytes at `data` (kept alive by `owner`) uncompressed and not cached. A sized
@@ -120,8 +164,17 @@ int view(const ViewOptions& options) {
   const viz::Run run = viz::readRun(options.dir);
   const std::filesystem::path dir = options.dir;
 
+  const RunFiles files(dir);
+
   httplib::Server server;
+  // A connection that sends nothing (or reads nothing) is dropped after kIoTimeout; at most
+  // kWorkers are served at once, the others wait their turn: a stalled client holds one worker
+  // for a few seconds and never the server.
   server.set_keep_alive_timeout(1);
+  server.set_keep_alive_max_count(5);
+  server.set_read_timeout(kIoTimeout);
+  server.set_write_timeout(kIoTimeout);
+  server.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
   // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second server could
   // share a port that is taken instead of being refused.
   server.set_socket_options([](int sock) {
@@ -130,31 +183,38 @@ int view(const ViewOptions& options) {
   });  // quick shutdown while a browser keeps its connections
   int port = options.port;
 
-  // Only requests addressed to this server by name (no DNS rebinding from other sites).
+  // Only requests addressed to this server by name (no DNS rebinding from other sites), and at
+  // most kMaxRanges byte ranges a request (800 of them made a 421 MB answer).
   server.set_pre_routing_handler([&port](const httplib::Request& req, httplib::Response& res) {
     const std::string host = req.get_header_value("Host");
-    if (host == fmt::format("127.0.0.1:{}", port) || host == fmt::format("localhost:{}", port))
-      return httplib::Server::HandlerResponse::Unhandled;
-    res.status = 403;
-    res.set_content("linx view: forbidden host\n", "text/plain");
-    return httplib::Server::HandlerResponse::Handled;
+    if (host != fmt::format("127.0.0.1:{}", port) && host != fmt::format("localhost:{}", port)) {
+      res.status = 403;
+      res.set_content("linx view: forbidden host\n", "text/plain");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (rangeCount(req) > kMaxRanges) {
+      res.status = 416;
+      res.set_content(fmt::format("linx view: at most {} ranges a request\n", kMaxRanges),
+                      "text/plain");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
   });
   server.Get("/", [](const httplib::Request&, httplib::Response& res) {
     reply(res, reinterpret_cast<const char*>(kViewerPage), kViewerPageSize,
           "text/html; charset=utf-8");
   });
-  server.Get("/run/manifest.json", [&dir](const httplib::Request&, httplib::Response& res) {
-    const auto body = std::make_shared<const std::string>(manifest(dir));
+  server.Get("/run/manifest.json", [&dir, &files](const httplib::Request&, httplib::Response& res) {
+    const auto body = std::make_shared<const std::string>(files.manifest(dir));
     reply(res, body->data(), body->size(), "application/json", body);
   });
   // The run's files by their fixed names only: the pattern admits no '/' and the name must be
-  // one of the run files read back, so nothing outside DIR can be reached.
-  server.Get(R"(/run/([a-z]+\.(?:json|csv)))", [&dir](const httplib::Request& req,
-                                                      httplib::Response& res) {
+  // one of the run files opened at the start (RunFiles), so nothing else can be reached.
+  server.Get(R"(/run/([a-z]+\.(?:json|csv)))", [&files](const httplib::Request& req,
+                                                        httplib::Response& res) {
     const std::string name = req.matches[1];
-    const bool known = servedRunFile(name);
     auto body = std::make_shared<std::string>();
-    if (!known || !readFile(dir / name, *body)) {
+    if (!files.read(name, *body)) {
       res.status = 404;
       res.set_content(fmt::format("linx view: no {} in the run folder\n", name), "text/plain");
       return;
