@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages linx needs to build and test, only those missing.
 # Usage: scripts/install-deps.sh [--peers]   (--peers adds ODE, Bullet, MuJoCo and DART for bench/)
+# clang builds the fuzz harnesses (scripts/fuzz.sh), curl tests the viewer server.
 # Pictures (docs/visualization.md): povray renders frames, ffmpeg makes videos, gnuplot plots,
 # cpp-httplib serves the viewer, whose page is bundled by npm (three.js) at build time and tested
 # in Chromium. Node.js and npm come from Debian unless the machine already has them.
@@ -9,7 +10,7 @@ set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config libeigen3-dev nlohmann-json3-dev libcli11-dev
           libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev libqhull-dev
           libtinyobjloader-dev liburdfdom-dev libtinyxml2-dev zlib1g-dev libmujoco-dev libmujoco-samples
-          povray ffmpeg gnuplot-nox fonts-dejavu-core libpng-dev libcpp-httplib-dev chromium curl)
+          povray ffmpeg gnuplot-nox fonts-dejavu-core libpng-dev libcpp-httplib-dev chromium curl clang)
 if ! command -v npm >/dev/null || ! command -v node >/dev/null; then packages+=(nodejs npm); fi
 if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev libdart-dev); fi
 
