@@ -223,6 +223,11 @@ case "$case_name" in
     done
     expect 2 "$linx" run good.json --out out --every 0
     [ "$(cat err.txt)" = "linx: --every: must be at least 1, got 0" ] || fail "--every message"
+    # A run folder whose run files would include the scene itself.
+    mkdir here && cp good.json here/scene.json
+    expect 2 "$linx" run here/scene.json --out here
+    expect_error_line "linx: --out: here: the run would replace its own input here/scene.json (scene.json is a run file); choose another folder"
+    [ "$(cat here/scene.json)" = "$(cat good.json)" ] || fail "the scene was changed"
     expect 2 "$linx" run good.json --out out --timestep=-1
     [ "$(cat err.txt)" = "linx: --timestep: must be a finite number > 0, got -1" ] || fail "--timestep message"
     expect 2 "$linx" run good.json --out out --threads -1

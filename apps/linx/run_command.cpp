@@ -284,6 +284,19 @@ int run(const RunOptions& options) {
   std::error_code ec;
   if (fs::exists(options.out, ec) && !fs::is_directory(options.out, ec))
     throw BadInput(fmt::format("--out: {}: exists and is not a directory", options.out));
+  // A run clears its folder's run files: never the scene it is about to read.
+  const fs::path input = fs::weakly_canonical(fs::absolute(options.scene), ec);
+  for (const run_files::RunFile& file : run_files::kAll) {
+    std::string name(file.name);
+    if (name.back() == '/') name.pop_back();
+    const fs::path output = fs::weakly_canonical(fs::absolute(fs::path(options.out) / name), ec);
+    const auto [end, at] = std::mismatch(output.begin(), output.end(), input.begin(), input.end());
+    if (end == output.end())  // the input is that file, or in that folder
+      throw BadInput(
+          fmt::format("--out: {}: the run would replace its own input {} ({} is a run "
+                      "file); choose another folder",
+                      options.out, options.scene, name));
+  }
   Prepared p = prepare(options);
   if (options.keep_going) p.world.settings().faults.stop = false;
   bool breakable = false;
