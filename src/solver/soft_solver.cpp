@@ -13,6 +13,15 @@
 #include <cstdint>
 #include <numbers>
 
+// The bundle kernels in two versions, AVX2 and the baseline, picked at load time (GCC). Clang
+// wants target_clones on a function's first declaration, in the header: built with clang (the fuzz
+// harnesses) they are compiled once, for the baseline.
+#if defined(__clang__)
+#define LINX_AVX2_CLONES
+#else
+#define LINX_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+
 namespace linx::solver {
 
 namespace {
@@ -479,7 +488,7 @@ template <class Bodies, class Bundle>
 
 }  // namespace
 
-__attribute__((target_clones("avx2", "default"))) void SoftSolver::warmStartBundle(std::size_t k) {
+LINX_AVX2_CLONES void SoftSolver::warmStartBundle(std::size_t k) {
   // The scalar warm start's arithmetic: a row whose impulse is zero adds nothing.
   const Bundle& bundle = bundles_[k];
   WideVelocities x;
@@ -501,9 +510,7 @@ __attribute__((target_clones("avx2", "default"))) void SoftSolver::warmStartBund
   scatter(bodies_, bundle, x);
 }
 
-__attribute__((target_clones("avx2", "default"))) void SoftSolver::solveBundle(std::size_t k,
-                                                                               bool forward,
-                                                                               bool bias) {
+LINX_AVX2_CLONES void SoftSolver::solveBundle(std::size_t k, bool forward, bool bias) {
   const Bundle& bundle = bundles_[k];
   // Gather the lanes' bodies (structure of arrays).
   WideVelocities x;
