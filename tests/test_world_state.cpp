@@ -4,6 +4,8 @@
 // restored into a fresh world built from the same scene and into the same world rewound.
 #include <linx/linx.hpp>
 
+#include "world/state_archive.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -150,6 +152,22 @@ TEST(WorldState, SleepingIslandsResumeBitForBit) {
   // The stack settles and sleeps within 8 s (960 steps of 1/120 s).
   checkCase(Case{"box_stack.json", std::nullopt, 960, 1, true});
   checkCase(Case{"box_stack.json", linx::SolverType::Soft, 960, 1, true});
+}
+
+// Found by fuzz_state (scripts/fuzz.sh): a byte read back as a bool that is neither 0 nor 1 was
+// undefined behaviour; it is refused.
+TEST(WorldState, ABooleanThatIsNeitherZeroNorOneIsRefused) {
+  for (const int value : {0, 1, 27}) {
+    const std::vector<std::byte> bytes{static_cast<std::byte>(value)};
+    linx::state::Archive a = linx::state::Archive::reader(bytes);
+    bool b = false;
+    if (value > 1) {
+      EXPECT_THROW(a(b), linx::state::StateError);
+    } else {
+      a(b);
+      EXPECT_EQ(b, value == 1);
+    }
+  }
 }
 
 // A state put in a world of another shape, or damaged, is refused and leaves the world as it was.

@@ -60,6 +60,13 @@ class Archive {
   template <class T>
   requires std::is_arithmetic_v<T> || std::is_enum_v<T>
   void operator()(T& x) { bytes(&x, sizeof x); }
+  /// A bool as one byte, 0 or 1: any other byte read back is refused (it is no bool's value).
+  void operator()(bool& x) {
+    std::uint8_t byte = x ? 1 : 0;
+    bytes(&byte, 1);
+    if (byte > 1) throw StateError("a boolean that is neither 0 nor 1");
+    x = byte == 1;
+  }
   /// Fixed-size matrices, and those of a bounded size (JointCoordinates) with their size.
   template <class Scalar, int R, int C, int O, int MR, int MC>
   void operator()(Eigen::Matrix<Scalar, R, C, O, MR, MC>& m) {
