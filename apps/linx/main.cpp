@@ -10,6 +10,7 @@
 // (scene, flags, usage), 3 the run stopped on a fault (a non-finite state, a bound passed, energy
 // made by an unstable solve), 130 interrupted.
 #include "cli_common.hpp"
+#include "io/output_file.hpp"
 #include "plot_command.hpp"
 #include "progress.hpp"
 #include "render_command.hpp"
@@ -33,7 +34,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -63,26 +63,6 @@ struct ConvertOptions {
   bool allow_outside_paths = false;
 };
 
-// Writes `text` to `path` through a temporary file in the same folder, renamed into place: the
-// file is either complete or not there at all.
-void writeAtomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
-  const std::filesystem::path temp =
-      folder / fmt::format("{}.tmp-{}", path.filename().string(), getpid());
-  try {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(fmt::format("cannot write {}", temp.string()));
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(fmt::format("cannot write {}", temp.string()));
-    std::filesystem::rename(temp, path);
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(temp, ec);
-    throw;
-  }
-}
-
 // Loads a scene or a robot and writes it as a JSON scene file.
 int convert(const ConvertOptions& options) {
   std::error_code ec;
@@ -93,7 +73,7 @@ int convert(const ConvertOptions& options) {
                                          .allow_outside_paths = options.allow_outside_paths});
   for (const std::string& warning : scene.warnings)
     fmt::print(stderr, "linx: warning: {}\n", warning);
-  writeAtomically(options.output, linx::writeSceneJson(scene));
+  linx::io::writeFileAtomically(options.output, linx::writeSceneJson(scene));
   fmt::print("wrote {} ({} bodies, {} joints)\n", options.output, scene.bodies.size(),
              scene.joints.size());
   return 0;

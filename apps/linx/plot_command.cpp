@@ -4,6 +4,7 @@
 #include "plot_command.hpp"
 
 #include "cli_common.hpp"
+#include "io/output_file.hpp"
 #include "process.hpp"
 #include "viz/run.hpp"
 
@@ -239,7 +240,7 @@ int plot(const PlotOptions& options) {
     }
   }
   const fs::path script_path = out / "plots.gp";
-  writeFile(script_path, script);
+  io::writeFileAtomically(script_path, script);
 
   // Looked for up front, so that a missing gnuplot is told apart from one that fails.
   const std::optional<std::string> gnuplot = findProgram("gnuplot");

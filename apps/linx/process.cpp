@@ -177,22 +177,4 @@ std::string logTail(const fs::path& log, std::size_t count) {
   return text.empty() ? "(no output)" : text;
 }
 
-void writeFile(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.parent_path() / fmt::format(".{}.tmp", path.filename().string());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec)
-    throw std::runtime_error(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
-}
-
 }  // namespace linx::cli

@@ -48,8 +48,4 @@ std::string describeStatus(int status);
 /// "(no output)".
 std::string logTail(const std::filesystem::path& log, std::size_t count = 3);
 
-/// Writes a whole file under a temporary name (".NAME.tmp" in the same folder), then renames it,
-/// so that a failure never leaves half a file. Throws std::runtime_error.
-void writeFile(const std::filesystem::path& path, const std::string& text);
-
 }  // namespace linx::cli

@@ -3,6 +3,7 @@
 #include "render_command.hpp"
 
 #include "cli_common.hpp"
+#include "io/output_file.hpp"
 #include "process.hpp"
 #include "progress.hpp"
 #include "stop_signals.hpp"
@@ -339,7 +340,7 @@ int render(const RenderOptions& options) {
 
   const double aspect = static_cast<double>(options.width) / options.height;
   const viz::Camera camera = viz::chooseCamera(run, aspect);
-  writeFile(folder / "scene.inc", viz::povInclude(run, camera, aspect));
+  io::writeFileAtomically(folder / "scene.inc", viz::povInclude(run, camera, aspect));
 
   const std::vector<std::size_t> frames =
       single ? std::vector<std::size_t>{single_frame} : viz::pickFrames(run, options.fps);
@@ -353,7 +354,7 @@ int render(const RenderOptions& options) {
     job.part = folder / (job.name + ".part.png");
     job.png = folder / (job.name + ".png");
     job.log = folder / ("." + job.name + ".log");
-    writeFile(job.pov, viz::povFrame(run, job.frame, "scene.inc"));
+    io::writeFileAtomically(job.pov, viz::povFrame(run, job.frame, "scene.inc"));
     jobs.push_back(std::move(job));
   }
 

@@ -9,6 +9,8 @@
 // match the file's, a checksum that does not match the payload.
 #include <linx/checkpoint.hpp>
 
+#include "io/input_file.hpp"
+#include "io/output_file.hpp"
 #include "world/state_archive.hpp"
 
 #include <fcntl.h>
@@ -19,7 +21,6 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <system_error>
 
 namespace linx {
@@ -31,6 +32,8 @@ namespace {
 constexpr std::array<char, 8> kMagic = {'L', 'I', 'N', 'X', 'C', 'K', 'P', 'T'};
 constexpr std::uint32_t kByteOrder = 0x01020304;
 constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8, kTrailerSize = 4;
+// The largest checkpoint read (a world of a million bodies takes about 1 GiB).
+constexpr std::uint64_t kCheckpointLimit = 8 * io::kMiB * 1024;
 
 std::uint32_t crc32Of(std::span<const std::byte> data) {
   uLong crc = crc32(0L, Z_NULL, 0);
@@ -46,11 +49,6 @@ std::uint32_t crc32Of(std::span<const std::byte> data) {
 void persist(state::Archive& a, RunCheckpoint& c) {
   a.fields(c.scene, c.source, c.steps, c.every, c.checkpoint_every, c.contacts, c.breaks,
            c.keep_going, c.frames, c.output.bytes, c.output.breaks, c.state.bytes);
-}
-
-std::runtime_error ioError(const fs::path& path, int error) {
-  return std::runtime_error(
-      fmt::format("cannot write {}: {}", path.string(), std::generic_category().message(error)));
 }
 
 template <class T>
@@ -78,49 +76,17 @@ void writeCheckpoint(const fs::path& file, const RunCheckpoint& checkpoint) {
   bytes.insert(bytes.end(), payload.begin(), payload.end());
   put(bytes, crc32Of(payload));
 
-  const fs::path temp = file.parent_path() / fmt::format(".{}.tmp", file.filename().string());
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) throw ioError(temp, errno);
-  std::span<const std::byte> rest = bytes;
-  int error = 0;
-  while (!rest.empty() && error == 0) {
-    const ssize_t n = ::write(fd, rest.data(), rest.size());
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0)
-      error = n < 0 ? errno : EIO;
-    else
-      rest = rest.subspan(static_cast<std::size_t>(n));
-  }
-  if (error == 0 && ::fsync(fd) != 0) error = errno;
-  if (::close(fd) != 0 && error == 0) error = errno;
-  if (error == 0 && ::rename(temp.c_str(), file.c_str()) != 0) error = errno;
-  if (error != 0) {
-    ::unlink(temp.c_str());
-    throw ioError(file, error);
-  }
+  io::writeFileAtomically(
+      file, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 RunCheckpoint readCheckpoint(const fs::path& file) {
   const std::string name = file.string();
-  std::error_code ec;
-  if (fs::is_directory(file, ec)) throw CheckpointError(name, "file", "is a directory");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw CheckpointError(name, "file", std::strerror(errno));
-  std::vector<std::byte> bytes;
-  {
-    std::vector<char> chunk(1 << 16);
-    while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
-      const auto* p = reinterpret_cast<const std::byte*>(chunk.data());
-      bytes.insert(bytes.end(), p, p + in.gcount());
-      // The header says how long the file is: stop a file that is longer (or never ends).
-      if (bytes.size() >= kHeaderSize) {
-        std::uint64_t length = 0;
-        std::memcpy(&length, bytes.data() + 16, sizeof length);
-        if (length <= (std::uint64_t{1} << 40) &&
-            bytes.size() > kHeaderSize + length + kTrailerSize)
-          throw CheckpointError(name, "length", "the file is longer than its header says");
-      }
-    }
+  std::string bytes;
+  try {
+    bytes = io::readInputFile(file, kCheckpointLimit, "a checkpoint");
+  } catch (const std::runtime_error& e) {
+    throw CheckpointError(name, "file", e.what());
   }
   if (bytes.size() < kHeaderSize + kTrailerSize ||
       std::memcmp(bytes.data(), kMagic.data(), kMagic.size()) != 0)
@@ -136,12 +102,12 @@ RunCheckpoint readCheckpoint(const fs::path& file) {
     throw CheckpointError(
         name, "version",
         fmt::format("format version {}; this linx reads version {}", version, kCheckpointVersion));
-  if (length != bytes.size() - kHeaderSize - kTrailerSize)
+  if (const std::size_t held = bytes.size() - kHeaderSize - kTrailerSize; length != held)
     throw CheckpointError(name, "length",
-                          fmt::format("the header says {} bytes of state, the file holds {} "
-                                      "(cut short?)",
-                                      length, bytes.size() - kHeaderSize - kTrailerSize));
-  const std::span<const std::byte> payload(bytes.data() + kHeaderSize, length);
+                          fmt::format("the header says {} bytes of state, the file holds {} ({})",
+                                      length, held, length > held ? "cut short?" : "appended to?"));
+  const std::span<const std::byte> payload(
+      reinterpret_cast<const std::byte*>(bytes.data()) + kHeaderSize, length);
   std::uint32_t checksum = 0;
   std::memcpy(&checksum, bytes.data() + kHeaderSize + length, 4);
   if (checksum != crc32Of(payload))

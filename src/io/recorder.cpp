@@ -6,6 +6,8 @@
 #include <linx/recorder.hpp>
 #include <linx/run_files.hpp>
 
+#include "io/output_file.hpp"
+
 #include <dirent.h>
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -24,6 +26,8 @@
 namespace linx {
 
 namespace fs = std::filesystem;
+using io::ioError;
+using io::writeAll;
 
 namespace {
 
@@ -42,21 +46,6 @@ std::string csvField(std::string_view text) {
     quoted += c;
   }
   return quoted + '"';
-}
-
-std::runtime_error ioError(std::string_view what, const fs::path& path, int error) {
-  return std::runtime_error(
-      fmt::format("cannot {} {}: {}", what, path.string(), std::generic_category().message(error)));
-}
-
-// Writes all of `data` to `fd` (write(2) may write less than asked, or be interrupted).
-void writeAll(int fd, std::string_view data, const fs::path& path) {
-  while (!data.empty()) {
-    const ssize_t n = ::write(fd, data.data(), data.size());
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw ioError("write", path, n < 0 ? errno : EIO);
-    data.remove_prefix(static_cast<std::size_t>(n));
-  }
 }
 
 // Removes the entry `name` of the folder `dir_fd`: a file or a link (never what a link points
@@ -228,28 +217,7 @@ void Recorder::writeFile(const std::string& name, const std::string& text) {
   if (name.empty() || name.find('/') != std::string::npos || name.front() == '.')
     throw std::invalid_argument(
         fmt::format("Recorder::writeFile: '{}' is not a plain file name", name));
-  const int dir_fd = files_->dir_fd;
-  const std::string temp = fmt::format(".{}.tmp", name);
-  const int fd =
-      ::openat(dir_fd, temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) throw ioError("create", dir_ / temp, errno);
-  try {
-    writeAll(fd, text, dir_ / name);
-  } catch (...) {
-    ::close(fd);
-    ::unlinkat(dir_fd, temp.c_str(), 0);
-    throw;
-  }
-  if (::close(fd) != 0) {
-    const int error = errno;
-    ::unlinkat(dir_fd, temp.c_str(), 0);
-    throw ioError("write", dir_ / name, error);
-  }
-  if (::renameat(dir_fd, temp.c_str(), dir_fd, name.c_str()) != 0) {
-    const int error = errno;
-    ::unlinkat(dir_fd, temp.c_str(), 0);
-    throw ioError("write", dir_ / name, error);
-  }
+  io::writeFileAtomically(name, text, files_->dir_fd, dir_ / name);
 }
 
 void Recorder::finish() {
