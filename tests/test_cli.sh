@@ -271,6 +271,10 @@ EOF
     sed 's/, "faults": {"max_speed": 1.7e308}//' runaway.json >bound.json
     expect 3 "$linx" run bound.json --out bound
     expect_error_line "linx: bound.json: bodies[0] (runaway): speed 1.5e+308 m/s is above faults.max_speed (10000 m/s) after step 1 (t = 0.5 s); output kept up to t = 0 s in bound"
+    # Resumed from there with --on-fault continue, it warns and goes on to the non-finite state.
+    expect 3 "$linx" resume bound --on-fault continue
+    grep -q "after step 1 .*; going on (--on-fault continue)" err.txt || fail "resume --on-fault continue: no warning"
+    grep -q "position is not finite after step 3" err.txt || fail "resume --on-fault continue: no stop"
     # --on-fault continue: a warning per fault, and the run goes on (to the non-finite state).
     expect 3 "$linx" run bound.json --out bound --on-fault continue
     [ "$(grep -c "linx: warning: bound.json: bodies\[0\] (runaway): speed 1.5e+308 m/s is above faults.max_speed (10000 m/s) after step [12] .*; going on (--on-fault continue)" err.txt)" -eq 2 ] ||

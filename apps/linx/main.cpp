@@ -1,10 +1,10 @@
 // The `linx` command line (docs/scene-format.md, "Command line"; docs/visualization.md):
 //   linx run SCENE.json --out DIR [--duration T] [--timestep H] [--threads N] [--every N]
 //            [--checkpoint-every T] [--on-fault stop|continue] [--contacts] [--vtk] [--render]
-//   linx resume DIR|CHECKPOINT   linx soak SCENE... [--steps N]   (docs/reliability.md)
-//   linx check SCENE.json   (SCENE may be ROBOT.urdf [--floating-base] or MODEL.xml, MJCF)
-//   linx convert SCENE.json|ROBOT.urdf OUT.json [--floating-base]
-//   linx render DIR ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
+//   linx resume DIR|CHECKPOINT [--on-fault stop|continue]   linx soak SCENE... [--steps N]
+//   (docs/reliability.md) linx check SCENE.json   (SCENE may be ROBOT.urdf [--floating-base] or
+//   MODEL.xml, MJCF) linx convert SCENE.json|ROBOT.urdf OUT.json [--floating-base] linx render DIR
+//   ...   linx vtk DIR   linx plot DIR ...   linx view DIR ...
 // Every input is validated before anything is written. Errors are one line on stderr,
 // "linx: FILE: FIELD: PROBLEM". Exit status: 0 success, 1 output or internal failure, 2 bad input
 // (scene, flags, usage), 3 the run stopped on a fault (a non-finite state, a bound passed, energy
@@ -165,6 +165,11 @@ int main(int argc, char** argv) {
       ->add_option("checkpoint", resume_from,
                    "Run folder (its newest checkpoint) or checkpoint file (DIR/checkpoints/*.lxc)")
       ->required();
+  std::string resume_on_fault;
+  resume_cmd
+      ->add_option("--on-fault", resume_on_fault,
+                   "stop or continue, as for run (default: as the run was started)")
+      ->check(CLI::IsMember({"stop", "continue"}));
 
   linx::cli::SoakOptions soak_options;
   CLI::App* soak_cmd = app.add_subcommand(
@@ -214,7 +219,10 @@ int main(int argc, char** argv) {
     if (*soak_cmd) return linx::cli::soak(soak_options);
     if (*resume_cmd) {
       options.scene = resume_from;  // names the checkpoint in messages
-      return linx::cli::resume(resume_from);
+      return linx::cli::resume(resume_from,
+                               resume_on_fault.empty()
+                                   ? std::nullopt
+                                   : std::optional<bool>(resume_on_fault == "continue"));
     }
     if (*plot_cmd) return linx::cli::plot(plot_options);
     if (*view_cmd) return linx::cli::view(view_options);

@@ -331,9 +331,10 @@ int run(const RunOptions& options) {
   return 0;
 }
 
-int resume(const std::string& given) {
+int resume(const std::string& given, std::optional<bool> keep_going) {
   fs::path out;
   RunCheckpoint c = loadCheckpoint(given, out);
+  if (keep_going) c.keep_going = *keep_going;
   const Scene scene = parseScene(c.scene, given + " (its scene)");
   World world = buildWorld(scene);
   try {

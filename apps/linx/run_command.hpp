@@ -28,7 +28,8 @@ int check(const RunOptions& options);
 /// Simulates the scene into options.out; returns the exit status (docs/reliability.md).
 int run(const RunOptions& options);
 /// Goes on with a run from a checkpoint file, or from the newest checkpoint of a run folder.
-int resume(const std::string& checkpoint);
+/// `keep_going` overrides the run's --on-fault (true: continue, false: stop).
+int resume(const std::string& checkpoint, std::optional<bool> keep_going = std::nullopt);
 /// `linx vtk DIR`.
 int writeVtk(const std::string& dir);
 
