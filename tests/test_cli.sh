@@ -267,19 +267,30 @@ EOF
     expect 3 "$linx" resume out
     grep -q "position is not finite after step 3 (t = 1.5 s)" err.txt || fail "resume: another fault"
 
-    # The default speed bound stops the same body at its first step.
-    sed 's/, "faults": {"max_speed": 1.7e308}//' runaway.json >bound.json
+    # Under the default speed bound the same body is refused by the check: it would stop at once.
+    sed 's/, "faults": {"max_speed": 1.7e308}//' runaway.json >fast.json
+    expect 2 "$linx" check fast.json
+    expect_error_line "linx: fast.json: bodies[0].linear_velocity: the body starts at 1.5e+308 m/s, above faults.max_speed (10000 m/s): the run would stop at its first step"
+
+    # A body that gravity makes too fast stops at the step where it passes the bound.
+    cat >bound.json <<'EOF'
+{
+  "gravity": [1e308, 0, 0], "timestep": 0.5, "duration": 2,
+  "bodies": [{"name": "runaway", "mass": 1, "inertia": [1, 1, 1]}]
+}
+EOF
     expect 3 "$linx" run bound.json --out bound
-    expect_error_line "linx: bound.json: bodies[0] (runaway): speed 1.5e+308 m/s is above faults.max_speed (10000 m/s) after step 1 (t = 0.5 s); output kept up to t = 0 s in bound"
+    expect_error_line "linx: bound.json: bodies[0] (runaway): speed 5e+307 m/s is above faults.max_speed (10000 m/s) after step 1 (t = 0.5 s); output kept up to t = 0 s in bound; the last good state (t = 0 s) is in bound/checkpoints/step_000000000000000.lxc"
     # Resumed from there with --on-fault continue, it warns and goes on to the non-finite state.
     expect 3 "$linx" resume bound --on-fault continue
-    grep -q "after step 1 .*; going on (--on-fault continue)" err.txt || fail "resume --on-fault continue: no warning"
-    grep -q "position is not finite after step 3" err.txt || fail "resume --on-fault continue: no stop"
+    [ "$(grep -c "after step [123] .*; going on (--on-fault continue)" err.txt)" -eq 3 ] ||
+      fail "resume --on-fault continue: expected three warnings"
+    grep -q "position is not finite after step 4" err.txt || fail "resume --on-fault continue: no stop"
     # --on-fault continue: a warning per fault, and the run goes on (to the non-finite state).
     expect 3 "$linx" run bound.json --out bound --on-fault continue
-    [ "$(grep -c "linx: warning: bound.json: bodies\[0\] (runaway): speed 1.5e+308 m/s is above faults.max_speed (10000 m/s) after step [12] .*; going on (--on-fault continue)" err.txt)" -eq 2 ] ||
-      fail "--on-fault continue: expected two warnings"
-    grep -q "position is not finite after step 3" err.txt || fail "--on-fault continue: no stop"
+    [ "$(grep -c "linx: warning: bound.json: bodies\\[0\\] (runaway): speed .* m/s is above faults.max_speed (10000 m/s) after step [123] .*; going on (--on-fault continue)" err.txt)" -eq 3 ] ||
+      fail "--on-fault continue: expected three warnings"
+    grep -q "position is not finite after step 4" err.txt || fail "--on-fault continue: no stop"
     ;;
 
   interrupt)

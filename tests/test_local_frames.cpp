@@ -158,10 +158,10 @@ TEST(LocalFrames, BadFramesAreRefused) {
       R"({"name": "u", "type": "universal", "body1": "a", "body2": "b", "frame": "local",
           "anchor": [0, 0, 0], "axis1": [0, 0, 1], "axis2": [0, 1, 0]})");
   std::printf("%s\n", parallel.c_str());
-  EXPECT_NE(parallel.find("joints[0]: axis2: must be perpendicular to axis1"), std::string::npos);
+  EXPECT_NE(parallel.find("joints[0].axis2: must be perpendicular to axis1"), std::string::npos);
   EXPECT_NE(message(R"({"name": "d", "type": "distance", "body1": "a", "body2": "b",
                         "frame": "local", "anchor1": [1, 0, 0], "anchor2": [0, 0, 0]})")
-                .find("joints[0]: anchor2: must be apart"),
+                .find("joints[0].anchor2: must be apart"),
             std::string::npos);
 }
 

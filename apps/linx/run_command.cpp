@@ -72,6 +72,7 @@ Prepared prepare(const RunOptions& options) {
   if (options.duration) scene.duration = *options.duration;
   if (options.timestep) scene.settings.timestep = *options.timestep;
   if (options.threads) scene.settings.threads = *options.threads;
+  if (options.keep_going) scene.settings.faults.stop = false;
   const std::int64_t steps = stepCount(scene, options);
   World world = buildWorld(scene);
   return {std::move(scene), std::move(world), steps};
@@ -298,7 +299,6 @@ int run(const RunOptions& options) {
                       options.out, options.scene, name));
   }
   Prepared p = prepare(options);
-  if (options.keep_going) p.world.settings().faults.stop = false;
   bool breakable = false;
   for (const SceneJoint& j : p.scene.joints)
     breakable = breakable || j.def.break_force || j.def.break_torque;

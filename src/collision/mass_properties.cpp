@@ -116,6 +116,24 @@ bool isSolid(ShapeType type) {
   return type != ShapeType::Plane && type != ShapeType::Mesh;
 }
 
+// Mass properties computed from shapes' sizes (and densities) that a double cannot hold, or that
+// vanish: named against the shapes, which the user gave, not the mass or inertia, which they did
+// not.
+void checkMadeFromShapes(double mass, const Mat3& inertia) {
+  if (!(mass > 0.0 && std::isfinite(mass)))
+    throw std::invalid_argument(
+        fmt::format("shapes: their sizes and densities make a mass of {:.3g} kg, too {} to "
+                    "simulate",
+                    mass, mass > 0.0 ? "large" : "small"));
+  const double largest = inertia.cwiseAbs().maxCoeff();
+  if (!std::isfinite(largest) || !(inertia.diagonal().minCoeff() > 0.0))
+    throw std::invalid_argument(
+        fmt::format("shapes: their sizes and densities make an inertia of {:.3g} kg m^2, too {} to "
+                    "simulate (give the "
+                    "inertia, or shapes of a size between a micrometre and a kilometre)",
+                    largest, std::isfinite(largest) ? "small" : "large"));
+}
+
 void setMassFromShapes(BodyDef& body) {
   std::vector<MassProperties> parts;
   for (std::size_t k = 0; k < body.shapes.size(); ++k) {
@@ -128,6 +146,7 @@ void setMassFromShapes(BodyDef& body) {
   }
   if (parts.empty()) throw std::invalid_argument("shapes: no solid shape to compute the mass from");
   const MassProperties total = combine(parts);
+  checkMadeFromShapes(total.mass, total.inertia);
   body.mass = total.mass;
   body.inertia = total.inertia;
   // The stated position and velocity were the shapes' origin's; the body's are its centre's.
@@ -141,12 +160,21 @@ Mat3 uniformShapesInertia(const BodyDef& body, double mass) {
   double volume = 0.0;
   for (const ShapeDef& s : body.shapes)
     if (isSolid(s.type)) volume += shapeVolume(s);
-  if (!(volume > 0.0))
+  const bool solid = std::any_of(body.shapes.begin(), body.shapes.end(),
+                                 [](const ShapeDef& s) { return isSolid(s.type); });
+  if (!solid)
     throw std::invalid_argument("inertia: missing (give it, or a solid shape to compute it from)");
+  if (!(volume > 0.0 && std::isfinite(volume)))
+    throw std::invalid_argument(
+        fmt::format("shapes: their volume, {:.3g} m^3, is too {} to compute the inertia from (give "
+                    "the inertia)",
+                    volume, volume > 0.0 ? "large" : "small"));
   std::vector<MassProperties> parts;
   for (const ShapeDef& s : body.shapes)
     if (isSolid(s.type)) parts.push_back(shapeMassProperties(s, mass / volume));
-  return combine(parts).inertiaAboutOrigin();
+  const Mat3 inertia = combine(parts).inertiaAboutOrigin();
+  checkMadeFromShapes(mass, inertia);
+  return inertia;
 }
 
 void completeMassProperties(BodyDef& body) {

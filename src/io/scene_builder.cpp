@@ -5,10 +5,92 @@
 
 #include <fmt/format.h>
 
+#include <regex>
 #include <stdexcept>
 #include <string>
 
 namespace linx {
+
+namespace {
+
+// The engine's refusal of the definition at `place` ("joints[2]"): its message starts with the
+// field it is about when it knows it ("limits.lower: ..."), which joins the place's path
+// ("joints[2].limits.lower: ...").
+SceneError refused(const std::string& file, const std::string& place, const std::string& what) {
+  static const std::regex field(
+      R"(^([A-Za-z_][A-Za-z0-9_]*(\[[0-9]+\])*(\.[A-Za-z_][A-Za-z0-9_]*(\[[0-9]+\])*)*): )");
+  std::smatch m;
+  if (std::regex_search(what, m, field))
+    return SceneError(file, place + "." + m[1].str(),
+                      what.substr(static_cast<std::size_t>(m.length(0))));
+  return SceneError(file, place, what);
+}
+
+// How far (m or rad) a coordinate may start outside its limits: rounding, not a modelling choice.
+constexpr double kStartTolerance = 1e-6;
+// How far a joint may start from what else it holds (a rod's length, a mimic's offset): what its
+// first step closes without a kick that would stop the run.
+constexpr double kStartError = 0.1;
+
+// Where a scene gives coordinate c of the joint: "" (a joint of one coordinate: "limits" at its
+// top level), "axes[c]." (a serial joint) or "NAME." ("position.").
+std::string coordinateField(const SceneJoint& joint, std::size_t c) {
+  const JointTypeInfo* type = findJointType(joint.type);
+  if (!type || type->freeCoordinates(joint.def) <= 1) return "";
+  if (type->uses_axes) return fmt::format("axes[{}].", c);
+  return c < type->coordinates.size() ? fmt::format("{}.", type->coordinates[c].name) : "";
+}
+
+// A joint must start where it holds its bodies: a coordinate outside its limits, a rope stretched
+// past its length or a rod of another length than its points are apart would be pulled there in
+// the first step, with all the energy that takes (the run would stop on a fault).
+void checkStart(const Scene& scene, const World& world, std::size_t i) {
+  const JointId id{static_cast<int>(i)};
+  const double error = world.jointError(id);
+  if (error <= kStartTolerance) return;  // the common case: nothing to look into
+  const std::string place = fmt::format("joints[{}]", i);
+  const auto& coordinates = scene.joints[i].def.coordinates;
+  const JointCoordinates q = world.jointCoordinates(id);
+  for (std::size_t c = 0; c < coordinates.size() && static_cast<Eigen::Index>(c) < q.size(); ++c) {
+    if (!coordinates[c].limits) continue;
+    const JointLimits& limits = *coordinates[c].limits;
+    const double x = q[static_cast<Eigen::Index>(c)] + coordinates[c].reference;
+    if (x >= limits.lower - kStartTolerance && x <= limits.upper + kStartTolerance) continue;
+    throw SceneError(
+        scene.file, fmt::format("{}.{}limits", place, coordinateField(scene.joints[i], c)),
+        fmt::format("the joint starts at {:.6g}, outside its limits [{:.6g}, {:.6g}] (give "
+                    "'initial' inside them, or place the bodies there)",
+                    x, limits.lower, limits.upper));
+  }
+  if (error <= kStartError) return;
+  throw SceneError(scene.file, place,
+                   fmt::format("the joint starts {:.3g} (m or rad) away from what it holds where "
+                               "the bodies are (a length, a limit or a relation not met at the "
+                               "start): the first step would pull it there at once",
+                               error));
+}
+
+// A body that starts faster than the fault bounds would stop the run at its first step: refused
+// by the check, where the bounds are known, unless faults do not stop the run.
+void checkStartSpeed(const Scene& scene, const World& world, std::size_t i) {
+  const FaultSettings& faults = scene.settings.faults;
+  if (!faults.stop) return;
+  const Body& b = world.body(BodyId{static_cast<int>(i)});
+  const double v = b.linearVelocity().stableNorm(), w = b.angularVelocity().stableNorm();
+  const std::string place = fmt::format("bodies[{}]", i);
+  if (v > faults.max_speed)
+    throw SceneError(scene.file, place + ".linear_velocity",
+                     fmt::format("the body starts at {:.6g} m/s, above faults.max_speed ({} m/s): "
+                                 "the run would stop at its first step",
+                                 v, faults.max_speed));
+  if (w > faults.max_angular_speed)
+    throw SceneError(scene.file, place + ".angular_velocity",
+                     fmt::format("the body starts at {:.6g} rad/s, above faults.max_angular_speed "
+                                 "({} rad/s): the run would stop at its first step",
+                                 w, faults.max_angular_speed));
+}
+
+}  // namespace
 
 World buildWorld(const Scene& scene) {
   World world(scene.settings);
@@ -16,21 +98,21 @@ World buildWorld(const Scene& scene) {
     try {
       world.createBody(scene.bodies[i]);
     } catch (const std::invalid_argument& e) {
-      throw SceneError(scene.file, fmt::format("bodies[{}]", i), e.what());
+      throw refused(scene.file, fmt::format("bodies[{}]", i), e.what());
     }
   }
   for (std::size_t i = 0; i < scene.joints.size(); ++i) {
     try {
       world.createJoint(scene.joints[i].type, scene.joints[i].def);
     } catch (const std::invalid_argument& e) {
-      throw SceneError(scene.file, fmt::format("joints[{}]", i), e.what());
+      throw refused(scene.file, fmt::format("joints[{}]", i), e.what());
     }
   }
   for (std::size_t i = 0; i < scene.springs.size(); ++i) {
     try {
       world.createJoint(scene.springs[i].type, scene.springs[i].def);
     } catch (const std::invalid_argument& e) {
-      throw SceneError(scene.file, fmt::format("springs[{}]", i), e.what());
+      throw refused(scene.file, fmt::format("springs[{}]", i), e.what());
     }
   }
   // Coordinates that start elsewhere than where the model was built: once every joint is made,
@@ -43,15 +125,17 @@ World buildWorld(const Scene& scene) {
         world.setJointCoordinate(JointId{static_cast<int>(i)}, static_cast<int>(c),
                                  *coordinates[c].initial);
       } catch (const std::invalid_argument& e) {
-        throw SceneError(scene.file, fmt::format("joints[{}]", i), e.what());
+        throw refused(scene.file, fmt::format("joints[{}]", i), e.what());
       }
     }
   }
+  for (std::size_t i = 0; i < scene.joints.size(); ++i) checkStart(scene, world, i);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) checkStartSpeed(scene, world, i);
   for (const SceneLoad& load : scene.loads) {
     try {
       world.addLoad(load.def);
     } catch (const std::invalid_argument& e) {
-      throw SceneError(scene.file, load.field, e.what());
+      throw refused(scene.file, load.field, e.what());
     }
   }
   return world;

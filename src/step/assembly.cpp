@@ -140,7 +140,8 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
       }
       if (!finite(r))
         throw std::domain_error(
-            fmt::format("joints[{}] ({}): its constraint rows are not finite (degenerate geometry)",
+            fmt::format("joints[{}] ({}): its constraint rows are not finite (degenerate geometry, "
+                        "or masses, forces or speeds too large for a double)",
                         ji, j.name()));
     }
     used += static_cast<std::size_t>(n);
