@@ -569,7 +569,7 @@ TEST(SceneError, Solver) {
       {[](json& s) { s["solver"]["iterations"] = 2.5; }, "solver.iterations",
        "must be an integer >= 1, got 2.5"},
       {[](json& s) { s["solver"]["iterations"] = 1e12; }, "solver.iterations",
-       "must be an integer >= 1"},
+       "must be an integer from 1 to 2147483647, got 1e+12"},
       {[](json& s) { s["solver"]["tolerance"] = -1; }, "solver.tolerance", "must be >= 0, got -1"},
       {[](json& s) { s["solver"]["erp"] = 1.5; }, "solver.erp", "must be between 0 and 1, got 1.5"},
       {[](json& s) { s["solver"]["cfm"] = -1e-9; }, "solver.cfm", "must be >= 0"},

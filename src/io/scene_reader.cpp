@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -339,9 +340,11 @@ class Reader {
 
   int integer(const Node& n, int min) const {
     const double x = number(n);
-    if (x != std::floor(x) || x < min || x > std::numeric_limits<int>::max()) {
+    if (x > std::numeric_limits<int>::max())
+      fail(n.path, fmt::format("must be an integer from {} to {}, got {:g}", min,
+                               std::numeric_limits<int>::max(), x));
+    if (x != std::floor(x) || x < min)
       fail(n.path, fmt::format("must be an integer >= {}, got {}", min, n.value.dump()));
-    }
     return static_cast<int>(x);
   }
 
@@ -1212,10 +1215,11 @@ class Reader {
     allowOnly(n, {"times", "values", "file"});
     Signal table({}, {});
     if (const auto file = get(n, "file")) {
+      const std::string name = string(*file);
       for (std::string_view key : {"times", "values"})
         if (n.value.contains(key))
           fail(childPath(n.path, key), "give either a file or times and values");
-      const std::filesystem::path path = std::filesystem::path(file_).parent_path() / string(*file);
+      const std::filesystem::path path = std::filesystem::path(file_).parent_path() / name;
       try {
         io::checkInsideFolder(path, std::filesystem::path(file_).parent_path(),
                               options_.allow_outside_paths);
@@ -1247,6 +1251,20 @@ class Reader {
     return table;
   }
 
+  // A line of a text file as a message quotes it: bytes that are not printable ASCII escaped
+  // (\xNN), at most 60 characters.
+  static std::string shownLine(std::string_view line) {
+    std::string out;
+    for (const char c : line.substr(0, 60)) {
+      const auto byte = static_cast<unsigned char>(c);
+      if (byte >= 0x20 && byte < 0x7f)
+        out += c;
+      else
+        out += fmt::format("\\x{:02x}", byte);
+    }
+    return line.size() > 60 ? out + "..." : out;
+  }
+
   // Two columns of numbers, time and value, one row per line; the first line may be a header.
   Signal tableFile(const std::filesystem::path& path, const std::string& field) const {
     std::string text;
@@ -1263,21 +1281,22 @@ class Reader {
       if (line.empty()) continue;
       const auto comma = line.find(',');
       double t = 0.0, v = 0.0;
-      const auto parse = [](const std::string& text, double& x) {
-        std::size_t used = 0;
-        try {
-          x = std::stod(text, &used);
-        } catch (const std::exception&) {
-          return false;
-        }
-        return text.find_first_not_of(" \t", used) == std::string::npos && std::isfinite(x);
+      // A decimal number between optional blanks (not hex, inf or nan, which strtod takes).
+      const auto parse = [](std::string_view text, double& x) {
+        const auto begin = text.find_first_not_of(" \t");
+        if (begin == std::string_view::npos) return false;
+        text = text.substr(begin, text.find_last_not_of(" \t") + 1 - begin);
+        if (text.size() > 1 && text.front() == '+' && text[1] != '-') text.remove_prefix(1);
+        const auto [end, error] =
+            std::from_chars(text.data(), text.data() + text.size(), x, std::chars_format::general);
+        return error == std::errc() && end == text.data() + text.size() && std::isfinite(x);
       };
       const bool ok = comma != std::string::npos && parse(line.substr(0, comma), t) &&
                       parse(line.substr(comma + 1), v);
       if (!ok) {
         if (number == 1) continue;  // a header
         fail(field, fmt::format("{} line {}: expected two numbers, time and value, got '{}'",
-                                path.string(), number, line));
+                                path.string(), number, shownLine(line)));
       }
       if (!table.times.empty() && !(t > table.times.back()))
         fail(field, fmt::format("{} line {}: time {} is not after the one before it ({})",

@@ -85,8 +85,22 @@ void moveToCoordinate(std::span<Body> bodies, std::span<const std::unique_ptr<Jo
   JointCoordinates goal = start.head(free);
   goal[coordinate] = value;
   std::vector<Row> rows;
-  constexpr double kStep = 0.5;  // (rad or m) per iteration at most: turns stay counted
-  for (int iteration = 0; iteration < 100; ++iteration) {
+  constexpr double kStep = 0.5;      // (rad or m) per iteration at most: turns stay counted
+  constexpr double kFarthest = 1e4;  // (m or rad) from where the joint was built
+  const double distance = std::abs(value - start[coordinate]);
+  if (!(distance <= kFarthest))
+    throw std::invalid_argument(
+        fmt::format("initial: {} is {:.3g} (m or rad) from where the joint was built; at most {:g}",
+                    value, distance, kFarthest));
+  // Enough iterations to walk there in steps of kStep, and to converge.
+  const int iterations = 100 + static_cast<int>(std::ceil(distance / kStep));
+  const auto unreached = [&](const JointCoordinates& q) {
+    return std::invalid_argument(
+        fmt::format("initial: {} cannot be reached: moving the bodies towards it stops at {:.6g} "
+                    "(the joint's geometry allows no more)",
+                    value, q[coordinate]));
+  };
+  for (int iteration = 0; iteration < iterations; ++iteration) {
     const BodyState b1 = stateOf(bodies, j.body1());
     const JointCoordinates q = j.coordinates(b1, b2).head(free);
     fill(b1, rows);
@@ -110,8 +124,7 @@ void moveToCoordinate(std::span<Body> bodies, std::span<const std::unique_ptr<Jo
     }
     rhs.tail(free) = (goal - q).cwiseMax(-kStep).cwiseMin(kStep);
     const Vec6 dx = a.completeOrthogonalDecomposition().solve(rhs);
-    if (!dx.allFinite() || dx.isZero(0.0))
-      throw std::invalid_argument(fmt::format("initial: {} is out of the joint's reach", value));
+    if (!dx.allFinite() || dx.isZero(0.0)) throw unreached(q);
     // The side turns about body 1's centre by dtheta and moves by dp, as one rigid piece.
     const Vec3 centre = b1.pose.position;
     const Quat turn = math::expMap(dx.tail<3>());
@@ -124,7 +137,7 @@ void moveToCoordinate(std::span<Body> bodies, std::span<const std::unique_ptr<Jo
     }
     j.track(stateOf(bodies, j.body1()), b2);
   }
-  throw std::invalid_argument(fmt::format("initial: {} is out of the joint's reach", value));
+  throw unreached(j.coordinates(stateOf(bodies, j.body1()), b2).head(free));
 }
 
 }  // namespace linx
