@@ -235,6 +235,10 @@ case "$case_name" in
     echo "not a directory" >taken
     expect 2 "$linx" run good.json --out taken
     expect_error_line "linx: --out: taken: exists and is not a directory"
+    expect 2 "$linx" run good.json --out taken/sub
+    expect_error_line "linx: --out: taken/sub: taken is a file, not a folder"
+    expect 2 "$linx" run good.json --out ""
+    expect_error_line "linx: --out: must not be empty"
     ;;
 
   missing_file)

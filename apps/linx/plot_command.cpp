@@ -210,9 +210,8 @@ int plot(const PlotOptions& options) {
   const viz::Run run = viz::readRun(options.dir);
   const fs::path out =
       options.out.empty() ? fs::path(options.dir) / "plots" : fs::path(options.out);
+  checkOutputFolder("--out", out);
   std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-    throw BadInput(fmt::format("--out: {}: exists and is not a directory", out.string()));
   fs::create_directories(out, ec);
   if (ec) throw std::runtime_error(fmt::format("cannot create {}: {}", out.string(), ec.message()));
 

@@ -282,9 +282,8 @@ int check(const RunOptions& options) {
 int run(const RunOptions& options) {
   if (options.every < 1)
     throw BadInput(fmt::format("--every: must be at least 1, got {}", options.every));
+  checkOutputFolder("--out", options.out);
   std::error_code ec;
-  if (fs::exists(options.out, ec) && !fs::is_directory(options.out, ec))
-    throw BadInput(fmt::format("--out: {}: exists and is not a directory", options.out));
   // A run clears its folder's run files: never the scene it is about to read.
   const fs::path input = fs::weakly_canonical(fs::absolute(options.scene), ec);
   for (const run_files::RunFile& file : run_files::kAll) {
