@@ -239,6 +239,15 @@ case "$case_name" in
     expect_error_line "linx: --out: taken/sub: taken is a file, not a folder"
     expect 2 "$linx" run good.json --out ""
     expect_error_line "linx: --out: must not be empty"
+    # Misspelt flags and commands are named, with the closest one.
+    expect 2 "$linx" run good.json --out out --durtion 1
+    expect_error_line "linx: --durtion: not a flag of linx run; did you mean --duration? (see linx run --help)"
+    expect 2 "$linx" run good.json --out out --every 1.5
+    expect_error_line "linx: --every: '1.5' is not a value it takes (see linx run --help)"
+    expect 2 "$linx" run good.json --out out extra
+    expect_error_line "linx: 'extra': an argument linx run does not take (see linx run --help)"
+    expect 2 "$linx" rn good.json
+    expect_error_line "linx: 'rn': not a command of linx; did you mean run? (see linx --help)"
     ;;
 
   missing_file)

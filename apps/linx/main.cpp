@@ -11,6 +11,7 @@
 // made by an unstable solve), 130 interrupted.
 #include "cli_common.hpp"
 #include "io/output_file.hpp"
+#include "io/suggestion.hpp"
 #include "plot_command.hpp"
 #include "progress.hpp"
 #include "render_command.hpp"
@@ -84,6 +85,50 @@ std::string oneLine(std::string text) {
   std::replace(text.begin(), text.end(), '\n', ' ');
   while (!text.empty() && text.back() == ' ') text.pop_back();
   return text;
+}
+
+// The subcommand given ("run"), or the app itself.
+const CLI::App& givenCommand(const CLI::App& app) {
+  const std::vector<CLI::App*> given = app.get_subcommands();
+  return given.empty() ? app : *given.front();
+}
+
+// "linx run" or "linx".
+std::string commandName(const CLI::App& app, const CLI::App& command) {
+  return &command == &app ? "linx" : "linx " + command.get_name();
+}
+
+// An argument no option took: the first of them, the command's closest flag to it if it is a
+// misspelt flag, and where to look.
+std::string unexpectedArguments(const CLI::App& app, const CLI::ExtrasError& e) {
+  const CLI::App& command = givenCommand(app);
+  std::vector<std::string> extras = command.remaining();
+  if (extras.empty()) extras = app.remaining();
+  const std::string name = commandName(app, command);
+  if (extras.empty()) return fmt::format("{} (see {} --help)", oneLine(e.what()), name);
+  const std::string& first = extras.front();
+  if (!first.starts_with("-"))
+    return fmt::format("'{}': an argument {} does not take (see {} --help)", first, name, name);
+  std::vector<std::string> flags;
+  for (const CLI::Option* option : command.get_options())
+    for (const std::string& long_name : option->get_lnames()) flags.push_back("--" + long_name);
+  const std::string_view flag = std::string_view(first).substr(0, first.find('='));
+  const std::string_view closest = linx::io::closestName(flag, flags);
+  return fmt::format("{}: not a flag of {}{} (see {} --help)", flag, name,
+                     closest.empty() ? "" : fmt::format("; did you mean {}?", closest), name);
+}
+
+// "Could not convert: --every = 1.5" as "--every: '1.5' is not a value it takes".
+std::string unconvertible(const CLI::App& app, const CLI::ConversionError& e) {
+  const std::string name = commandName(app, givenCommand(app));
+  const std::string text = oneLine(e.what());
+  constexpr std::string_view kPrefix = "Could not convert: ";
+  const auto equals = text.find(" = ");
+  if (!text.starts_with(kPrefix) || equals == std::string::npos)
+    return fmt::format("{} (see {} --help)", text, name);
+  return fmt::format("{}: '{}' is not a value it takes (see {} --help)",
+                     text.substr(kPrefix.size(), equals - kPrefix.size()), text.substr(equals + 3),
+                     name);
 }
 
 }  // namespace
@@ -197,7 +242,22 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
+  } catch (const CLI::ExtrasError& e) {
+    fmt::print(stderr, "linx: {}\n", unexpectedArguments(app, e));
+    return kExitBadInput;
+  } catch (const CLI::ConversionError& e) {
+    fmt::print(stderr, "linx: {}\n", unconvertible(app, e));
+    return kExitBadInput;
   } catch (const CLI::ParseError& e) {
+    if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+      std::vector<std::string> commands;
+      for (const CLI::App* command : app.get_subcommands({}))
+        commands.push_back(command->get_name());
+      const std::string_view closest = linx::io::closestName(argv[1], commands);
+      fmt::print(stderr, "linx: '{}': not a command of linx{} (see linx --help)\n", argv[1],
+                 closest.empty() ? "" : fmt::format("; did you mean {}?", closest));
+      return kExitBadInput;
+    }
     fmt::print(stderr, "linx: {} (see linx --help)\n", oneLine(e.what()));
     return kExitBadInput;
   }

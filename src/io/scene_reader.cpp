@@ -27,6 +27,7 @@
 #include "collision/geometry.hpp"
 #include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
+#include "io/suggestion.hpp"
 
 namespace linx {
 
@@ -140,34 +141,10 @@ std::string describe(const json& value) {
   }
 }
 
-// Levenshtein distance, to suggest the intended name for a misspelt one.
-std::size_t editDistance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
 // " (did you mean 'mass'?)" when one of `names` is close to `name`, else "".
 template <typename Names>
 std::string suggestion(std::string_view name, const Names& names) {
-  std::string_view best;
-  std::size_t best_distance = 3;  // suggest only names at most two edits away
-  for (std::string_view candidate : names) {
-    const std::size_t d = editDistance(name, candidate);
-    if (d < best_distance) {
-      best = candidate;
-      best_distance = d;
-    }
-  }
+  const std::string_view best = io::closestName(name, names);
   return best.empty() ? std::string() : fmt::format(" (did you mean '{}'?)", best);
 }
 
