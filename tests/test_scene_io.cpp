@@ -474,6 +474,38 @@ TEST(SceneRead, RepeatedJointsAreNamedWithAWarning) {
   EXPECT_EQ(loaded.warnings[0], expected);
 }
 
+// A joint or a spring between two things that never move (static bodies, the world) never acts:
+// named with a warning. One with a moving or kinematic body is not.
+TEST(SceneRead, JointsThatNeverActAreNamedWithAWarning) {
+  namespace fs = std::filesystem;
+  const fs::path file =
+      fs::temp_directory_path() / ("linx_idle_" + std::to_string(::getpid()) + ".json");
+  const json scene = json::parse(R"({
+    "bodies": [{"name": "post", "static": true},
+               {"name": "slab", "static": true},
+               {"name": "cart", "kinematic": true, "linear_velocity": [1, 0, 0]},
+               {"name": "bob", "mass": 1, "inertia": [1, 1, 1]}],
+    "joints": [{"name": "weld", "type": "fixed", "body1": "post", "body2": "slab"},
+               {"name": "pin", "type": "hinge", "body1": "post", "anchor": [0, 0, 0],
+                "axis": [0, 0, 1]},
+               {"name": "tow", "type": "fixed", "body1": "cart"},
+               {"name": "swing", "type": "hinge", "body1": "bob", "anchor": [0, 0, 0],
+                "axis": [0, 0, 1]}],
+    "springs": [{"name": "idle", "body1": "post", "anchor1": [0, 0, 0], "anchor2": [1, 0, 0],
+                 "stiffness": 10}]})");
+  std::ofstream(file) << scene.dump();
+  const linx::Scene loaded = linx::loadModel(file);
+  fs::remove(file);
+  const std::string tail = ", neither of which moves (static bodies, the world): it never acts";
+  ASSERT_EQ(loaded.warnings.size(), 3u);
+  EXPECT_EQ(loaded.warnings[0],
+            file.string() + ": joints[0] (weld): joins 'post' and 'slab'" + tail);
+  EXPECT_EQ(loaded.warnings[1],
+            file.string() + ": joints[1] (pin): joins 'post' and the world" + tail);
+  EXPECT_EQ(loaded.warnings[2],
+            file.string() + ": springs[0] (idle): joins 'post' and the world" + tail);
+}
+
 TEST(SceneError, MalformedJson) {
   linx::SceneError e = errorOf("{\n  \"timestep\": 0.001\n  \"duration\": 1\n}");
   EXPECT_EQ(e.field(), "line 3, column 12");  // where the parser gave up: after "duration"

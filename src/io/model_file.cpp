@@ -1,7 +1,7 @@
 // Model files of every format linx reads, told apart by their extension.
 #include <linx/import.hpp>
 
-#include "io/redundant_joints.hpp"
+#include "io/joint_warnings.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -17,7 +17,7 @@ Scene loadModel(const std::filesystem::path& path, const ImportOptions& options)
   Scene scene = extension == ".urdf"  ? importUrdf(path, options)
                 : extension == ".xml" ? importMjcf(path, options)
                                       : loadScene(path, options);
-  for (std::string& warning : io::redundantJointWarnings(scene))
+  for (std::string& warning : io::jointWarnings(scene))
     scene.warnings.push_back(std::move(warning));
   return scene;
 }

@@ -1,4 +1,4 @@
-#include "io/redundant_joints.hpp"
+#include "io/joint_warnings.hpp"
 
 #include <fmt/format.h>
 
@@ -63,6 +63,37 @@ std::vector<std::string> redundantJointWarnings(const Scene& scene) {
         scene.file, named(i), repeats.size(), list, scene.joints[i].type, bodyName(scene, d.body1),
         bodyName(scene, d.body2)));
   }
+  return warnings;
+}
+
+std::vector<std::string> idleJointWarnings(const Scene& scene) {
+  const auto still = [&](BodyId id) {
+    if (id.isWorld()) return true;
+    const BodyDef& b = scene.bodies[static_cast<std::size_t>(id.index)];
+    return b.is_static && !b.kinematic;
+  };
+  std::vector<std::string> warnings;
+  const auto check = [&](const std::vector<SceneJoint>& joints, std::string_view list) {
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+      const JointDef& d = joints[i].def;
+      if (d.leader || !still(d.body1) || !still(d.body2)) continue;  // a mimic ties joints
+      const auto name = [&](BodyId id) {
+        return id.isWorld() ? std::string("the world") : bodyName(scene, id);
+      };
+      warnings.push_back(fmt::format(
+          "{}: {}[{}] ({}): joins {} and {}, neither of which moves (static bodies, the world): "
+          "it never acts",
+          scene.file, list, i, d.name, name(d.body1), name(d.body2)));
+    }
+  };
+  check(scene.joints, "joints");
+  check(scene.springs, "springs");
+  return warnings;
+}
+
+std::vector<std::string> jointWarnings(const Scene& scene) {
+  std::vector<std::string> warnings = redundantJointWarnings(scene);
+  for (std::string& w : idleJointWarnings(scene)) warnings.push_back(std::move(w));
   return warnings;
 }
 
