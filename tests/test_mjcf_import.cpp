@@ -309,9 +309,10 @@ TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
   try {
     importMjcf(dir_ / "bad.xml");
     ADD_FAILURE() << "a missing include was accepted";
-  } catch (const SceneError& e) {
-    EXPECT_EQ(e.file(), (dir_ / "nowhere.xml").string());
-    EXPECT_EQ(e.problem(), "cannot open: No such file or directory");
+  } catch (const SceneError& e) {  // the including file and element, then the included file
+    EXPECT_EQ(e.file(), (dir_ / "bad.xml").string());
+    EXPECT_EQ(e.field(), "include (line 1)");
+    EXPECT_EQ(e.problem(), "file 'nowhere.xml': cannot open: No such file or directory");
   }
   refused(
       "<mujoco><worldbody><body><joint range='1 -1'/><geom size='1'/></body></worldbody>"
@@ -325,6 +326,75 @@ TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
       "<mujoco><worldbody><body name='b'><freejoint/>"
       "<inertial mass='1' diaginertia='1 -1 1'/></body></worldbody></mujoco>",
       "body 'b': inertia: ");
+}
+
+// Hostile files (a bad-input hunt): each refused with the exact element, line and problem, never
+// with tinyxml2's own text, nor by a later check that names what the file does not hold.
+TEST_F(MjcfImport, HostileFilesAreRefusedInPlainWords) {
+  // `file` refused, the fault in `in` (file, or a file it includes).
+  const auto refusedIn = [&](const fs::path& file, const fs::path& in, const std::string& field,
+                             const std::string& problem) {
+    try {
+      importMjcf(file);
+      ADD_FAILURE() << "accepted; expected: " << field << ": " << problem;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.file(), in.string());
+      EXPECT_EQ(e.field(), field);
+      EXPECT_EQ(e.problem(), problem);
+    }
+  };
+  const auto refused = [&](const fs::path& file, const std::string& field,
+                           const std::string& problem) { refusedIn(file, file, field, problem); };
+  const auto bad = [&](const std::string& text) { return write("bad.xml", text); };
+  refused(bad("hello"), "line 1", "not XML (text where an element should be)");
+  refused(bad("hello <"), "line 1", "not XML (text where an element should be)");
+  refused(bad(""), "", "the file is empty");
+  refused(bad("<mujoco>\n<worldbody></mujoco>"), "line 2",
+          "not well-formed XML (an end tag does not match its start tag)");
+
+  // <option>: a step that is not > 0 (it was refused later, as a run's duration).
+  const std::string body =
+      "<worldbody><body><freejoint/><geom size='0.1'/></body></worldbody></mujoco>";
+  refused(bad("<mujoco>\n<option timestep='0'/>" + body), "option (line 2)",
+          "timestep: must be > 0, got 0");
+  refused(bad("<mujoco>\n<option timestep='-1'/>" + body), "option (line 2)",
+          "timestep: must be > 0, got -1");
+  refused(bad("<mujoco>\n<option timestep='nan'/>" + body), "option (line 2)",
+          "timestep: 'nan' is not a finite number");
+
+  // Sizes a shape uses must be > 0 (a plane's are only drawn).
+  const auto geom = [&](const std::string& attributes) {
+    return bad("<mujoco><worldbody>\n<body><freejoint/><geom " + attributes +
+               "/></body></worldbody></mujoco>");
+  };
+  refused(geom("size='-0.1'"), "geom (line 2)", "size: the radius must be > 0, got -0.1");
+  refused(geom("type='capsule' size='0.1 0'"), "geom (line 2)",
+          "size: the radius and half-length must be > 0, got 0.1 0");
+  refused(geom("type='cylinder' size='0' fromto='0 0 0 0 0 1'"), "geom (line 2)",
+          "size: the radius must be > 0, got 0");
+  refused(geom("type='box' size='1 0 1'"), "geom (line 2)",
+          "size: the 3 half-sizes must be > 0, got 1 0 1");
+
+  // contype and conaffinity are 32 bits (a cast of -1 or 1e10 was undefined).
+  refused(bad("<mujoco><worldbody>\n<geom type='plane' size='1 1 1' contype='-1'/>"
+              "</worldbody></mujoco>"),
+          "geom (line 2)", "contype: must be a whole number in [0, 4294967295], got -1");
+  refused(bad("<mujoco><worldbody>\n<geom type='plane' size='1 1 1' conaffinity='0.5'/>"
+              "</worldbody></mujoco>"),
+          "geom (line 2)", "conaffinity: must be a whole number in [0, 4294967295], got 0.5");
+
+  // An include: the including file and the <include>'s line; a fault inside it: that file.
+  refused(bad("<mujoco>\n<include file='nothere.xml'/>" + body), "include (line 2)",
+          "file 'nothere.xml': cannot open: No such file or directory");
+  const fs::path inner =
+      write("parts/inner.xml", "<mujoco>\n\n<include file='gone.xml'/></mujoco>");
+  refusedIn(bad("<mujoco>\n<include file='parts/inner.xml'/>" + body), inner, "include (line 3)",
+            "file 'gone.xml': cannot open: No such file or directory");
+  const fs::path broken = write("broken.xml", "<mujoco>\n<worldbody>\n</mujoco>");
+  refusedIn(bad("<mujoco>\n<include file='broken.xml'/>" + body), broken, "line 2",
+            "not well-formed XML (an end tag does not match its start tag)");
+  const fs::path empty = write("empty.xml", "");
+  refusedIn(bad("<mujoco>\n<include file='empty.xml'/>" + body), empty, "", "the file is empty");
 }
 
 }  // namespace

@@ -268,7 +268,7 @@ TEST_F(UrdfImport, BadFilesAreRefusedWithTheFileAndTheElement) {
   const std::string link_b =
       R"(<link name="b"><inertial><mass value="1"/>
          <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)";
-  refused("<robot name='r'><link name='a'>", "not well-formed XML");
+  refused("<robot name='r'><link name='a'>", "not well-formed XML (");
   refused("<model/>", "needs a <robot> element");
   refused(
       "<robot name='r'><link name='a'/><joint name='j' type='continuous'><parent link='a'/>"
@@ -301,6 +301,127 @@ TEST_F(UrdfImport, BadFilesAreRefusedWithTheFileAndTheElement) {
   refused(two_joints + "<mimic joint='j'/></joint><link name='c'/></robot>",
           "joint 'k' <mimic>: joint 'k' is not a revolute, continuous or prismatic joint");
   EXPECT_THROW(importUrdf(dir_ / "missing.urdf"), SceneError);
+}
+
+std::string missingPackage(const fs::path& dir) {
+  return "mesh file 'package://nopkg/m.stl': package 'nopkg' not found (linx looks for a folder "
+         "named nopkg in " +
+         fs::absolute(dir).string() + " and the folders above it)";
+}
+
+// Hostile files (a bad-input hunt): each refused with the exact element, line and problem, never
+// with urdfdom's, tinyxml2's or the standard library's own text.
+TEST_F(UrdfImport, HostileFilesAreRefusedInPlainWords) {
+  const auto refused = [&](const std::string& text, const std::string& field,
+                           const std::string& problem) {
+    const fs::path file = write("bad.urdf", text);
+    try {
+      importUrdf(file);
+      ADD_FAILURE() << "accepted; expected: " << field << ": " << problem;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.file(), file.string());
+      EXPECT_EQ(e.field(), field);
+      EXPECT_EQ(e.problem(), problem);
+    }
+  };
+  const std::string inertial =
+      "<inertial><mass value='1'/><inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/>"
+      "</inertial>";
+  const auto link = [&](const std::string& name, const std::string& inside = "") {
+    return "<link name='" + name + "'>" + inertial + inside + "</link>\n";
+  };
+  const auto joint = [](const std::string& name, const std::string& parent,
+                        const std::string& child, const std::string& inside = "") {
+    return "<joint name='" + name + "' type='continuous'><parent link='" + parent +
+           "'/><child link='" + child + "'/>" + inside + "</joint>\n";
+  };
+  const auto collision = [&](const std::string& geometry) {
+    return "<robot name='r'>\n" +
+           link("a",
+                "<collision><geometry><sphere radius='1'/></geometry></collision>\n"
+                "<collision><geometry>" +
+                    geometry + "</geometry></collision>") +
+           "</robot>";
+  };
+
+  // A loop of joints: urdfdom finds the root "base" and reads the rest; a loop is not a tree.
+  refused(
+      "<robot name='r'>\n" + link("base") + joint("j1", "c", "a") + link("a") +
+          joint("j2", "a", "b") + link("b") + joint("j3", "b", "c") + link("c") +
+          joint("tool", "c", "d") + link("d") + "</robot>",
+      "robot",
+      "joints 'j1', 'j2', 'j3' form a loop (c -> a -> b -> c): a URDF's links must form a tree");
+
+  // Collision sizes.
+  refused(collision("<box size='0.3 -0.06 0.06'/>"), "link 'a' collision 1 <box> (line 3)",
+          "size: must be 3 numbers > 0, got 0.3 -0.06 0.06");
+  refused(collision("<box size='0.3 0.06'/>"), "link 'a' collision 1 <box> (line 3)",
+          "size: must be 3 numbers > 0, got 0.3 0.06");
+  refused(collision("<box/>"), "link 'a' collision 1 <box> (line 3)", "size: missing");
+  refused(collision("<sphere radius='0'/>"), "link 'a' collision 1 <sphere> (line 3)",
+          "radius: must be a number > 0, got 0");
+  refused(collision("<cylinder radius='0.1' length='0'/>"),
+          "link 'a' collision 1 <cylinder> (line 3)", "length: must be a number > 0, got 0");
+  refused(collision("<cylinder radius='-1' length='1'/>"),
+          "link 'a' collision 1 <cylinder> (line 3)", "radius: must be a number > 0, got -1");
+  refused(collision("<mesh filename='m.stl' scale='1 1'/>"), "link 'a' collision 1 <mesh> (line 3)",
+          "scale: needs 3 numbers, got 2");
+  refused(collision("<mesh filename='m.stl' scale='0 1 1'/>"),
+          "link 'a' collision 1 <mesh> (line 3)", "scale: must be 3 non-zero numbers, got 0 1 1");
+  refused(collision("<mesh/>"), "link 'a' collision 1 <mesh> (line 3)", "filename: missing");
+  // A collision urdfdom would drop silently: no shape, or one it does not know.
+  refused(collision("<capsule radius='0.1' length='0.2'/>"),
+          "link 'a' collision 1 <geometry> (line 3)",
+          "<capsule> is not a URDF geometry (box, sphere, cylinder, mesh)");
+  refused(collision(""), "link 'a' collision 1 <geometry> (line 3)",
+          "needs a box, sphere, cylinder or mesh");
+  refused("<robot name='r'>\n" + link("a", "\n<collision><origin xyz='0 0 1'/></collision>") +
+              "</robot>",
+          "link 'a' collision 0 <collision> (line 3)", "needs a <geometry>");
+  // A visual is not used, but urdfdom reads its numbers.
+  refused("<robot name='r'>\n" +
+              link("a",
+                   "<visual><origin xyz='0 0 1e999'/>"
+                   "<geometry><sphere radius='0'/></geometry></visual>") +
+              "</robot>",
+          "link 'a' visual 0 <origin> (line 2)", "xyz: '1e999' is not a finite number");
+
+  // Numbers urdfdom would refuse without naming the element.
+  const std::string two = "<robot name='r'>\n" + link("a") + link("b");
+  refused(two + joint("pitch2", "a", "b", "\n<origin xyz='nan 0 0'/>") + "</robot>",
+          "joint 'pitch2' <origin> (line 5)", "xyz: 'nan' is not a finite number");
+  refused(two + joint("pitch2", "a", "b", "\n<origin xyz='a b c'/>") + "</robot>",
+          "joint 'pitch2' <origin> (line 5)", "xyz: 'a' is not a finite number");
+  refused(two + joint("pitch2", "a", "b", "\n<origin rpy='0 0'/>") + "</robot>",
+          "joint 'pitch2' <origin> (line 5)", "rpy: needs 3 numbers, got 2");
+  refused(two + joint("j", "a", "b", "<axis xyz='0 0x1 0'/>") + "</robot>",
+          "joint 'j' <axis> (line 4)", "xyz: '0x1' is not a finite number");
+  refused(two + joint("j", "a", "b", "<dynamics damping='inf'/>") + "</robot>",
+          "joint 'j' <dynamics> (line 4)", "damping: 'inf' is not a finite number");
+  refused(two + joint("j", "a", "b", "<limit lower='-1' upper='1 2' effort='1' velocity='1'/>") +
+              "</robot>",
+          "joint 'j' <limit> (line 4)", "upper: needs 1 number, got 2");
+  refused(two + joint("j", "a", "b", "<limit lower='-1' upper='1' velocity='1'/>") + "</robot>",
+          "joint 'j' <limit> (line 4)", "effort: missing");
+  refused(
+      "<robot name='r'>\n<link name='a'><inertial><mass value='abc'/></inertial></link>"
+      "</robot>",
+      "link 'a' <mass> (line 2)", "value: 'abc' is not a finite number");
+  refused(
+      "<robot name='r'>\n<link name='a'><inertial><mass value='1'/>"
+      "<inertia ixx='1' ixy='0' ixz='0' iyy='1' izz='1'/></inertial></link></robot>",
+      "link 'a' <inertia> (line 2)", "iyz: missing");
+
+  // A package that is not there: named, and where linx looked.
+  refused(collision("<mesh filename='package://nopkg/m.stl'/>"), "link 'a' collision 1",
+          missingPackage(dir_));
+
+  // Not XML.
+  refused("hello", "line 1", "not XML (text where an element should be)");
+  refused("", "", "the file is empty");
+  refused(" \n ", "", "the file holds only white space");
+  refused("<robot name='r'>\n<link name='a'></robot>", "line 2",
+          "not well-formed XML (an end tag does not match its start tag)");
 }
 
 TEST_F(UrdfImport, LoadModelTellsFormatsApartByExtension) {

@@ -10,6 +10,7 @@
 
 #include "io/import_check.hpp"
 #include "io/input_file.hpp"
+#include "io/xml_error.hpp"
 
 #include <fmt/format.h>
 #include <tinyxml2.h>
@@ -45,7 +46,7 @@ class MjcfImporter {
     load(path_, doc_);
     XMLElement* root = doc_.FirstChildElement("mujoco");
     if (!root) fail("mujoco", "an MJCF file needs a <mujoco> element");
-    spliceIncludes(root, path_.parent_path(), 0);
+    spliceIncludes(root, path_, 0);
     scene_.file = file_;
     scene_.settings.timestep = 0.002;  // MuJoCo's default
     for (XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
@@ -85,39 +86,42 @@ class MjcfImporter {
     } catch (const std::runtime_error& e) {
       throw SceneError(path.string(), "", e.what());
     }
-    if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
-      throw SceneError(path.string(), fmt::format("line {}", doc.ErrorLineNum()),
-                       fmt::format("not well-formed XML: {}", doc.ErrorStr()));
-    }
+    io::parseXml(doc, text, path.string());
   }
 
   // <include file="..."/>: the included file's top-level children (inside its own <mujoco>) take
-  // its place, as MuJoCo does.
-  void spliceIncludes(XMLElement* parent, const std::filesystem::path& dir, int depth) {
+  // its place, as MuJoCo does. `file`: the file that holds `parent` (messages about an <include>
+  // name it, and the include's line).
+  void spliceIncludes(XMLElement* parent, const std::filesystem::path& file, int depth) {
+    const auto refuse = [&](const XMLElement* e, const std::string& problem) {
+      throw SceneError(file.string(), where(e), problem);
+    };
     for (XMLElement* e = parent->FirstChildElement(); e;) {
       XMLElement* next = e->NextSiblingElement();
       if (std::string(e->Name()) == "include") {
         if (depth >= kMaxIncludeDepth)
-          fail("include", fmt::format("more than {} nested includes", kMaxIncludeDepth));
+          refuse(e, fmt::format("more than {} nested includes", kMaxIncludeDepth));
         const char* name = e->Attribute("file");
-        if (!name) fail("include", "needs a file");
-        const std::filesystem::path included = dir / name;
+        if (!name) refuse(e, "file: missing");
+        const std::filesystem::path included = file.parent_path() / name;
+        std::string text;
         try {
           io::checkInsideFolder(included, path_.parent_path(), options_.allow_outside_paths);
-        } catch (const std::runtime_error& e) {
-          fail("include", e.what());
+          text = io::readInputFile(included, io::kModelLimit, "an MJCF file");
+        } catch (const std::runtime_error& error) {
+          refuse(e, fmt::format("file '{}': {}", name, error.what()));
         }
         tinyxml2::XMLDocument other;
-        load(included, other);
+        io::parseXml(other, text, included.string());
         XMLElement* other_root = other.FirstChildElement("mujoco");
         if (!other_root) throw SceneError(included.string(), "mujoco", "needs a <mujoco> element");
-        spliceIncludes(other_root, included.parent_path(), depth + 1);
+        spliceIncludes(other_root, included, depth + 1);
         tinyxml2::XMLNode* after = e;
         for (XMLElement* c = other_root->FirstChildElement(); c; c = c->NextSiblingElement())
           after = parent->InsertAfterChild(after, c->DeepClone(&doc_));
         parent->DeleteChild(e);
       } else {
-        spliceIncludes(e, dir, depth);
+        spliceIncludes(e, file, depth);
       }
       e = next;
     }
@@ -244,7 +248,12 @@ class MjcfImporter {
   }
 
   void option(const XMLElement* e) {
-    if (e->Attribute("timestep")) scene_.settings.timestep = number(e, "", "", "timestep", 0.0);
+    if (e->Attribute("timestep")) {
+      const double timestep = number(e, "", "", "timestep", 0.0);
+      if (!(timestep > 0.0))
+        fail(where(e), fmt::format("timestep: must be > 0, got {}", e->Attribute("timestep")));
+      scene_.settings.timestep = timestep;
+    }
     if (const auto g = vector(e, "", "", "gravity", 3))
       scene_.settings.gravity = {(*g)[0], (*g)[1], (*g)[2]};
     for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
@@ -655,8 +664,15 @@ class MjcfImporter {
     const std::string type = attribute(e, "geom", cls, "type").value_or("sphere");
     const std::vector<double> size =
         vector(e, "geom", cls, "size", 0).value_or(std::vector<double>{});
-    const auto need = [&](std::size_t n) {
+    const auto need = [&](std::size_t n) {  // the first n numbers, each > 0
       if (size.size() < n) fail(where(e), fmt::format("size: a {} needs {} numbers", type, n));
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(size[i] > 0.0))
+          fail(where(e), fmt::format("size: the {} must be > 0, got {}",
+                                     n == 1   ? "radius"
+                                     : n == 2 ? "radius and half-length"
+                                              : "3 half-sizes",
+                                     *attribute(e, "geom", cls, "size")));
     };
     const auto fromto = vector(e, "geom", cls, "fromto", 6);
     double half_length = 0.0;
@@ -695,14 +711,23 @@ class MjcfImporter {
     // Contact softness and dimensionality: linx's contacts are its own (docs/model-import.md).
     for (const char* a : {"condim", "solref", "solimp", "solmix", "margin", "gap", "priority"})
       if (attribute(e, "geom", cls, a)) unused(fmt::format("geom {}", a));
-    s.group = static_cast<std::uint32_t>(number(e, "geom", cls, "contype", 1.0));
-    s.mask = static_cast<std::uint32_t>(number(e, "geom", cls, "conaffinity", 1.0));
+    s.group = bits(e, cls, "contype");
+    s.mask = bits(e, cls, "conaffinity");
     if (density_body && isSolid(s.type)) {
       const auto mass = vector(e, "geom", cls, "mass", 1);
       s.density =
           mass ? (*mass)[0] / shapeVolume(s) : number(e, "geom", cls, "density", kDefaultDensity);
     }
     return s;
+  }
+
+  // contype and conaffinity: 32 bits, written as a whole number (default 1).
+  std::uint32_t bits(const XMLElement* e, const std::string& cls, const char* name) const {
+    const double v = number(e, "geom", cls, name, 1.0);
+    if (!(v >= 0.0 && v <= 4294967295.0 && v == std::floor(v)))
+      fail(where(e), fmt::format("{}: must be a whole number in [0, 4294967295], got {}", name,
+                                 *attribute(e, "geom", cls, name)));
+    return static_cast<std::uint32_t>(v);
   }
 
   void equality(const XMLElement* q) {

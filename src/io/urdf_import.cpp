@@ -12,6 +12,7 @@
 #include "io/import_check.hpp"
 #include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
+#include "io/xml_error.hpp"
 
 #include <console_bridge/console.h>
 #include <fmt/format.h>
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <locale>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -81,19 +83,163 @@ struct XmlSurvey {
   Unsupported unsupported;
 };
 
+// URDF's numbers, checked before urdfdom reads them (urdfdom's own message names neither the
+// element nor its joint or link, and it takes some faults silently: a box of two numbers is
+// dropped). A number is a decimal as urdfdom reads it (no hex, inf or nan), and finite.
+class NumberCheck {
+ public:
+  explicit NumberCheck(const std::string& file) : file_(file) {}
+
+  // The numbers of `attribute` of `e` (none when it is absent and not `required`): `count` of
+  // them, each finite, and > 0 when `positive`. `owner` names e's joint or link.
+  std::vector<double> numbers(const tinyxml2::XMLElement* e, const std::string& owner,
+                              const char* attribute, std::size_t count, bool required = false,
+                              bool positive = false) const {
+    const char* text = e->Attribute(attribute);
+    if (!text) {
+      if (required) fail(e, owner, fmt::format("{}: missing", attribute));
+      return {};
+    }
+    std::vector<double> out;
+    std::vector<std::string> words;
+    std::istringstream in(text);
+    for (std::string word; in >> word;) {
+      const std::optional<double> v = number(word);
+      if (!v) fail(e, owner, fmt::format("{}: '{}' is not a finite number", attribute, word));
+      out.push_back(*v);
+      words.push_back(word);
+    }
+    const bool all_positive = std::all_of(out.begin(), out.end(), [](double v) { return v > 0; });
+    if (positive && (out.size() != count || !all_positive)) {
+      std::string got;
+      for (const std::string& w : words) got += (got.empty() ? "" : " ") + w;
+      fail(e, owner,
+           count == 1 ? fmt::format("{}: must be a number > 0, got {}", attribute,
+                                    got.empty() ? "nothing" : got)
+                      : fmt::format("{}: must be {} numbers > 0, got {}", attribute, count,
+                                    got.empty() ? "nothing" : got));
+    }
+    if (out.size() != count)
+      fail(e, owner,
+           fmt::format("{}: needs {} number{}, got {}", attribute, count, count == 1 ? "" : "s",
+                       out.size()));
+    return out;
+  }
+
+  // A link's or joint's elements and their numbers (the URDF spec's, as urdfdom reads them).
+  void link(const tinyxml2::XMLElement* link, const std::string& name) const {
+    const std::string owner = fmt::format("link '{}'", name);
+    if (const auto* inertial = link->FirstChildElement("inertial")) {
+      origin(inertial, owner);
+      if (const auto* mass = inertial->FirstChildElement("mass"))
+        numbers(mass, owner, "value", 1, /*required=*/true);
+      if (const auto* inertia = inertial->FirstChildElement("inertia"))
+        for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"})
+          numbers(inertia, owner, a, 1, /*required=*/true);
+    }
+    for (const char* kind : {"collision", "visual"}) {
+      int index = 0;
+      for (const auto* c = link->FirstChildElement(kind); c;
+           c = c->NextSiblingElement(kind), ++index) {
+        const std::string where = fmt::format("{} {} {}", owner, kind, index);
+        origin(c, where);
+        if (std::string(kind) == "collision")
+          geometry(c, where, /*collision=*/true);
+        else if (c->FirstChildElement("geometry"))  // visuals are not used: only read
+          geometry(c, where, /*collision=*/false);
+      }
+    }
+  }
+
+  void joint(const tinyxml2::XMLElement* joint, const std::string& name) const {
+    const std::string owner = fmt::format("joint '{}'", name);
+    origin(joint, owner);
+    if (const auto* axis = joint->FirstChildElement("axis")) numbers(axis, owner, "xyz", 3);
+    if (const auto* limit = joint->FirstChildElement("limit")) {
+      for (const char* a : {"lower", "upper"}) numbers(limit, owner, a, 1);
+      for (const char* a : {"effort", "velocity"})  // URDF requires them; linx does not use them
+        numbers(limit, owner, a, 1, /*required=*/true);
+    }
+    if (const auto* dynamics = joint->FirstChildElement("dynamics"))
+      for (const char* a : {"damping", "friction"}) numbers(dynamics, owner, a, 1);
+    if (const auto* mimic = joint->FirstChildElement("mimic"))
+      for (const char* a : {"multiplier", "offset"}) numbers(mimic, owner, a, 1);
+    if (const auto* safety = joint->FirstChildElement("safety_controller"))
+      for (const char* a : {"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"})
+        numbers(safety, owner, a, 1);
+    if (const auto* calibration = joint->FirstChildElement("calibration"))
+      for (const char* a : {"rising", "falling"}) numbers(calibration, owner, a, 1);
+  }
+
+ private:
+  // As urdfdom's strToDouble reads a number (the C locale's decimal, an optional sign).
+  static std::optional<double> number(const std::string& word) {
+    std::istringstream in(word);
+    in.imbue(std::locale::classic());
+    double v = 0.0;
+    if (!(in >> v) || in.peek() != std::char_traits<char>::eof() || !std::isfinite(v))
+      return std::nullopt;
+    return v;
+  }
+
+  void origin(const tinyxml2::XMLElement* parent, const std::string& owner) const {
+    if (const auto* o = parent->FirstChildElement("origin")) {
+      numbers(o, owner, "xyz", 3);
+      numbers(o, owner, "rpy", 3);
+    }
+  }
+
+  // A collision's or visual's <geometry>: a collision's sizes must be > 0 (a visual's are only
+  // read). urdfdom drops a collision without a shape it knows, silently.
+  void geometry(const tinyxml2::XMLElement* parent, const std::string& owner,
+                bool collision) const {
+    const auto* g = parent->FirstChildElement("geometry");
+    if (!g) fail(parent, owner, "needs a <geometry>");
+    const auto* shape = g->FirstChildElement();
+    const std::string type = shape ? shape->Name() : "";
+    if (collision && type != "box" && type != "sphere" && type != "cylinder" && type != "mesh")
+      fail(g, owner,
+           type.empty()
+               ? "needs a box, sphere, cylinder or mesh"
+               : fmt::format("<{}> is not a URDF geometry (box, sphere, cylinder, mesh)", type));
+    if (type == "box") {
+      numbers(shape, owner, "size", 3, /*required=*/true, collision);
+    } else if (type == "sphere") {
+      numbers(shape, owner, "radius", 1, /*required=*/true, collision);
+    } else if (type == "cylinder") {
+      numbers(shape, owner, "radius", 1, /*required=*/true, collision);
+      numbers(shape, owner, "length", 1, /*required=*/true, collision);
+    } else if (type == "mesh") {
+      if (collision && !shape->Attribute("filename")) fail(shape, owner, "filename: missing");
+      const std::vector<double> scale = numbers(shape, owner, "scale", 3);
+      if (std::find(scale.begin(), scale.end(), 0.0) != scale.end())
+        fail(shape, owner,
+             fmt::format("scale: must be 3 non-zero numbers, got {}", shape->Attribute("scale")));
+    }
+  }
+
+  [[noreturn]] void fail(const tinyxml2::XMLElement* e, const std::string& owner,
+                         const std::string& problem) const {
+    throw SceneError(file_, fmt::format("{} <{}> (line {})", owner, e->Name(), e->GetLineNum()),
+                     problem);
+  }
+
+  std::string file_;
+};
+
 XmlSurvey survey(const std::string& text, const std::string& file) {
   tinyxml2::XMLDocument doc;
-  if (doc.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS)
-    throw SceneError(file, fmt::format("line {}", doc.ErrorLineNum()),
-                     fmt::format("not well-formed XML: {}", doc.ErrorStr()));
+  io::parseXml(doc, text, file);
   const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
   if (!robot) throw SceneError(file, "robot", "a URDF file needs a <robot> element");
   XmlSurvey s;
+  const NumberCheck check(file);
   for (auto* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string tag = e->Name();
     const char* name = e->Attribute("name");
     if (tag == "link") {
       if (name) s.links.emplace_back(name);
+      check.link(e, name ? name : "");
       for (auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
         const std::string child = c->Name();
         if (child == "visual")
@@ -103,6 +249,7 @@ XmlSurvey survey(const std::string& text, const std::string& file) {
       }
     } else if (tag == "joint") {
       if (name) s.joints.emplace_back(name);
+      check.joint(e, name ? name : "");
       for (auto* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
         const std::string child = c->Name();
         if (child == "limit") {
@@ -146,6 +293,7 @@ struct MeshFile {
   std::filesystem::path file, folder;
 };
 
+// Throws std::runtime_error when the package is not found.
 MeshFile meshPath(const std::string& uri, const std::filesystem::path& urdf_dir) {
   constexpr std::string_view package = "package://", file = "file://";
   if (uri.rfind(file, 0) == 0) return {uri.substr(file.size()), urdf_dir};
@@ -154,13 +302,21 @@ MeshFile meshPath(const std::string& uri, const std::filesystem::path& urdf_dir)
   const std::size_t slash = rest.find('/');
   const std::string name = rest.substr(0, slash);
   const std::string inside = slash == std::string::npos ? "" : rest.substr(slash + 1);
-  for (std::filesystem::path dir = std::filesystem::absolute(urdf_dir); !dir.empty();
-       dir = dir.parent_path()) {
+  if (name.empty() || name == "." || name == "..")
+    throw std::runtime_error(fmt::format("mesh file '{}': no package name after package://", uri));
+  std::error_code error;  // an unreadable folder on the way up counts as no package there
+  const std::filesystem::path start = urdf_dir.empty()  // a URDF in the working folder
+                                          ? std::filesystem::current_path(error)
+                                          : std::filesystem::absolute(urdf_dir, error);
+  for (std::filesystem::path dir = start; !dir.empty(); dir = dir.parent_path()) {
     if (dir.filename() == name) return {dir / inside, dir};
-    if (std::filesystem::is_directory(dir / name)) return {dir / name / inside, dir / name};
+    if (std::filesystem::is_directory(dir / name, error)) return {dir / name / inside, dir / name};
     if (dir == dir.parent_path()) break;
   }
-  return {urdf_dir / inside, urdf_dir};  // not found: the message names this path
+  throw std::runtime_error(
+      fmt::format("mesh file '{}': package '{}' not found (linx looks for a folder named {} in {} "
+                  "and the folders above it)",
+                  uri, name, name, start.empty() ? urdf_dir.string() : start.string()));
 }
 
 class UrdfImporter {
@@ -173,17 +329,18 @@ class UrdfImporter {
     XmlSurvey xml = survey(text, file_);
     model_ = parse(text, file_);
     place(model_->getRoot(), Pose{}, /*owner=*/"");
+    for (const std::string& name : xml.links)
+      if (!frame_.count(name)) failLoop(name, xml.joints);
     Scene scene;
     scene.file = file_;
     for (const std::string& name : xml.links)
-      if (owner_.at(name) == name) scene.bodies.push_back(body(name));
+      if (ownerOf(name) == name) scene.bodies.push_back(body(name));
     for (const std::string& name : xml.links) attachShapes(name, scene);
     for (const std::string& name : xml.joints)
-      if (auto joint = makeJoint(*model_->getJoint(name), scene)) scene.joints.push_back(*joint);
+      if (auto joint = makeJoint(jointOf(name), scene)) scene.joints.push_back(*joint);
     // Mimic joints after the joints they tie (a scene names them before).
     for (const std::string& name : xml.joints)
-      if (const urdf::Joint& j = *model_->getJoint(name); j.mimic)
-        scene.joints.push_back(mimic(j, scene));
+      if (const urdf::Joint& j = jointOf(name); j.mimic) scene.joints.push_back(mimic(j, scene));
     io::completeImported(scene, "link");
     scene.warnings = xml.unsupported.warnings(file_);
     for (const std::string& w : meshes_made_convex_) scene.warnings.push_back(w);
@@ -201,6 +358,66 @@ class UrdfImporter {
 
   [[noreturn]] void fail(const std::string& where, const std::string& problem) const {
     throw SceneError(file_, where, problem);
+  }
+
+  // A link that the root does not reach: urdfdom takes a loop of joints (each link has one
+  // parent, so it finds a root elsewhere), but a URDF is a tree. Names the loop, from the joint
+  // that comes first in the file.
+  [[noreturn]] void failLoop(const std::string& unreached,
+                             const std::vector<std::string>& joint_order) const {
+    std::vector<const urdf::Joint*> path;  // parent joints, from `unreached` up
+    for (urdf::LinkConstSharedPtr link = model_->getLink(unreached); link && link->parent_joint;
+         link = model_->getLink(link->parent_joint->parent_link_name)) {
+      const urdf::Joint* joint = link->parent_joint.get();
+      const auto seen = std::find(path.begin(), path.end(), joint);
+      if (seen == path.end()) {
+        path.push_back(joint);
+        continue;
+      }
+      std::vector<const urdf::Joint*> loop(seen, path.end());  // child to parent
+      std::reverse(loop.begin(), loop.end());                  // parent to child
+      const auto first = std::min_element(loop.begin(), loop.end(), [&](auto* a, auto* b) {
+        const auto place = [&](const urdf::Joint* j) {
+          return std::find(joint_order.begin(), joint_order.end(), j->name) - joint_order.begin();
+        };
+        return place(a) < place(b);
+      });
+      std::rotate(loop.begin(), first, loop.end());
+      std::string joints, links = loop.front()->parent_link_name;
+      for (const urdf::Joint* j : loop) {
+        joints += fmt::format("{}'{}'", joints.empty() ? "" : ", ", j->name);
+        links += " -> " + j->child_link_name;
+      }
+      fail("robot", fmt::format("joints {} form a loop ({}): a URDF's links must form a tree",
+                                joints, links));
+    }
+    fail(fmt::format("link '{}'", unreached),
+         fmt::format("not connected to the root link '{}'", model_->getRoot()->name));
+  }
+
+  // A placed link's frame and the link whose body carries it (place() reached every link).
+  const Pose& frameOf(const std::string& link) const {
+    const auto found = frame_.find(link);
+    if (found == frame_.end()) fail(fmt::format("link '{}'", link), "internal: not placed");
+    return found->second;
+  }
+
+  const urdf::Link& linkOf(const std::string& name) const {
+    const urdf::LinkConstSharedPtr link = model_->getLink(name);
+    if (!link) fail(fmt::format("link '{}'", name), "internal: urdfdom did not read it");
+    return *link;
+  }
+
+  const urdf::Joint& jointOf(const std::string& name) const {
+    const urdf::JointConstSharedPtr joint = model_->getJoint(name);
+    if (!joint) fail(fmt::format("joint '{}'", name), "internal: urdfdom did not read it");
+    return *joint;
+  }
+
+  const std::string& ownerOf(const std::string& link) const {
+    const auto found = owner_.find(link);
+    if (found == owner_.end()) fail(fmt::format("link '{}'", link), "internal: not placed");
+    return found->second;
   }
 
   static bool hasMass(const urdf::Link& link) { return link.inertial && link.inertial->mass > 0.0; }
@@ -221,7 +438,7 @@ class UrdfImporter {
     } else if (hasMass(*link)) {
       owner_[link->name] = link->name;
     } else if (joint->type == urdf::Joint::FIXED) {
-      owner_[link->name] = owner_.at(parent);
+      owner_[link->name] = ownerOf(parent);
     } else {
       fail(fmt::format("link '{}'", link->name),
            fmt::format("has no <inertial> with a mass > 0, but joint '{}' moves it", joint->name));
@@ -237,8 +454,8 @@ class UrdfImporter {
   }
 
   BodyDef body(const std::string& name) const {
-    const urdf::Link& link = *model_->getLink(name);
-    const Pose& frame = frame_.at(name);
+    const urdf::Link& link = linkOf(name);
+    const Pose& frame = frameOf(name);
     BodyDef def;
     def.name = name;
     def.orientation = frame.orientation;
@@ -260,7 +477,7 @@ class UrdfImporter {
 
   // Where the body carrying `link` is, as its BodyDef says.
   Pose bodyPose(const std::string& link, const Scene& scene) const {
-    const std::string& owner = owner_.at(link);
+    const std::string& owner = ownerOf(link);
     if (owner.empty()) return Pose{};
     for (const BodyDef& b : scene.bodies)
       if (b.name == owner) return {b.position, b.orientation};
@@ -268,7 +485,7 @@ class UrdfImporter {
   }
 
   int bodyIndex(const std::string& link, const Scene& scene) const {
-    const std::string& owner = owner_.at(link);
+    const std::string& owner = ownerOf(link);
     if (owner.empty()) return -1;
     for (std::size_t i = 0; i < scene.bodies.size(); ++i)
       if (scene.bodies[i].name == owner) return static_cast<int>(i);
@@ -276,7 +493,7 @@ class UrdfImporter {
   }
 
   void attachShapes(const std::string& name, Scene& scene) {
-    const urdf::Link& link = *model_->getLink(name);
+    const urdf::Link& link = linkOf(name);
     if (link.collision_array.empty()) return;
     int index = bodyIndex(name, scene);
     const Pose carrier = bodyPose(name, scene);
@@ -287,7 +504,7 @@ class UrdfImporter {
       const std::string where = fmt::format("link '{}' collision {}", name, i);
       if (!c.geometry) fail(where, "has no <geometry>");
       ShapeDef s = shape(*c.geometry, where, body.is_static);
-      const Pose world = compose(frame_.at(name), toPose(c.origin));
+      const Pose world = compose(frameOf(name), toPose(c.origin));
       s.position = carrier.toLocal(world.position);
       s.orientation = (carrier.orientation.conjugate() * world.orientation).normalized();
       s.group = kRobotGroup;
@@ -328,8 +545,8 @@ class UrdfImporter {
       }
       case urdf::Geometry::MESH: {
         const auto& m = static_cast<const urdf::Mesh&>(g);
-        const MeshFile mesh = meshPath(m.filename, path_.parent_path());
         try {
+          const MeshFile mesh = meshPath(m.filename, path_.parent_path());
           io::checkInsideFolder(mesh.file, mesh.folder, options_.allow_outside_paths);
           s = io::loadMeshFile(mesh.file.string());
         } catch (const std::exception& e) {
@@ -382,9 +599,9 @@ class UrdfImporter {
 
   std::optional<SceneJoint> makeJoint(const urdf::Joint& j, const Scene& scene) const {
     if (j.type == urdf::Joint::FLOATING) return std::nullopt;  // the child moves freely
-    if (owner_.at(j.child_link_name) != j.child_link_name) return std::nullopt;  // merged
+    if (ownerOf(j.child_link_name) != j.child_link_name) return std::nullopt;  // merged
     const std::string where = fmt::format("joint '{}'", j.name);
-    const Pose& frame = frame_.at(j.child_link_name);  // the joint's frame at zero
+    const Pose& frame = frameOf(j.child_link_name);  // the joint's frame at zero
     SceneJoint out;
     JointDef& def = out.def;
     def.name = j.name;
