@@ -833,6 +833,60 @@ TEST(Geometry, BadInputThrows) {
   }
 }
 
+std::string hullError(std::vector<Vec3> points) {
+  try {
+    prepareGeometry(convex(std::move(points)));
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// Point sets with no volume are named in plain words before Qhull sees them (it said "QH6154
+// Qhull precision error: Initial simplex is flat..." or "QH6421 qhull internal error..."), and
+// coordinates whose volume overflows are called too large, not a flat hull of volume -nan.
+TEST(Geometry, HullsWithoutAVolumeAreRefusedInPlainWords) {
+  EXPECT_EQ(hullError(std::vector<Vec3>(5, Vec3(1, 2, 3))), "convex: all 5 points are the same");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)}),
+            "convex: all 4 points lie on one line");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2, 2, 2), Vec3(0.1, 0.1, 0.1)}),
+            "convex: all 4 points lie on one line");
+  EXPECT_EQ(
+      hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), Vec3(0.5, 0.5, 0)}),
+      "convex: all 5 points lie in one plane");
+  EXPECT_EQ(hullError({Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
+                       Vec3(0.3333333333333333, 0.3333333333333333, 0.3333333333333334)}),
+            "convex: all 4 points lie in one plane");
+  // A real tetrahedron, but 1e-9 m thick and 1e9 m across: beyond what the hull can resolve.
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1e-9, 0, 0), Vec3(0, 1e9, 0), Vec3(0, 0, 1e9)}),
+            "convex: the hull is 1.41e+09 m across but only 1e-09 m thick, a spread of 18 orders "
+            "of magnitude (at most 9)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1e-13)}),
+            "convex: the hull is 1.41 m across but only 1e-13 m thick, a spread of 13 orders of "
+            "magnitude (at most 9)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1e-12, 0), Vec3(0, 0, 1e-12)}),
+            "convex: the hull is 1 m long but only 1e-12 m wide, a spread of 12 orders of "
+            "magnitude (at most 9)");
+  EXPECT_EQ(
+      hullError({Vec3(1e300, 0, 0), Vec3(-1e300, 0, 0), Vec3(0, 1e300, 0), Vec3(0, 0, 1e300)}),
+      "convex: point 0 has a coordinate of 1e+300 m, too large (at most 1e+50 m: the hull's "
+      "volume and inertia would overflow)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(0, 1e150, 0), Vec3(0, 0, 1e150), Vec3(1, 0, 0)}),
+            "convex: point 1 has a coordinate of 1e+150 m, too large (at most 1e+50 m: the hull's "
+            "volume and inertia would overflow)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1e-200, 0, 0), Vec3(0, 1e-200, 0), Vec3(0, 0, 1e-200)}),
+            "convex: the points span only 1e-200 m, too small (at least 1e-50 m: the hull's volume "
+            "and inertia would underflow)");
+  // Within the bounds, both ends.
+  for (double scale : {1e-50, 1e49}) {
+    const auto g = prepareGeometry(
+        convex({Vec3(0, 0, 0), Vec3(scale, 0, 0), Vec3(0, scale, 0), Vec3(0, 0, scale)}));
+    EXPECT_GT(g->volume(), 0.0);
+    EXPECT_TRUE(g->unitInertia().allFinite());
+    EXPECT_GT(g->unitInertia().diagonal().minCoeff(), 0.0);
+  }
+}
+
 // --- Convex mass properties ---
 
 TEST(ConvexMass, BoxCornersEqualTheBox) {
