@@ -820,7 +820,11 @@ TEST(Geometry, BadInputThrows) {
   m.triangles = {{0, 1, 3}};
   EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // index out of range
   m.triangles = {{0, 1, 1}};
+  EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // repeats a vertex
+  m.points.push_back(Vec3(2, 0, 0));
+  m.triangles = {{0, 1, 3}};
   EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // degenerate
+  m.points.pop_back();
   m.triangles.clear();
   EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // no triangles
   m.triangles = {{0, 1, 2}};
@@ -884,6 +888,26 @@ TEST(Geometry, HullsWithoutAVolumeAreRefusedInPlainWords) {
     EXPECT_GT(g->volume(), 0.0);
     EXPECT_TRUE(g->unitInertia().allFinite());
     EXPECT_GT(g->unitInertia().diagonal().minCoeff(), 0.0);
+  }
+
+  ShapeDef m = shapeOf(ShapeType::Mesh);
+  m.points = {Vec3(1e300, 0, 0), Vec3(-1e300, 0, 0), Vec3(0, 1e300, 0)};
+  m.triangles = {{0, 1, 2}};
+  try {
+    prepareGeometry(m);
+    ADD_FAILURE() << "a mesh of 1e300 m accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "mesh: vertex 0 has a coordinate of 1e+300 m, too large (at most 1e+50 m: "
+                 "triangle areas would overflow)");
+  }
+  m.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  m.triangles = {{0, 1, 1}};
+  try {
+    prepareGeometry(m);
+    ADD_FAILURE() << "a triangle repeating a vertex accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "mesh: triangle 0 repeats vertex 1");
   }
 }
 

@@ -293,9 +293,15 @@ std::shared_ptr<const Geometry> Geometry::convexHull(std::span<const Vec3> point
 std::shared_ptr<const Geometry> Geometry::mesh(std::span<const Vec3> points,
                                                std::span<const std::array<int, 3>> triangles) {
   if (triangles.empty()) throw std::invalid_argument("mesh: has no triangles");
-  for (std::size_t i = 0; i < points.size(); ++i)
+  for (std::size_t i = 0; i < points.size(); ++i) {
     if (!finite(points[i]))
       throw std::invalid_argument(fmt::format("mesh: vertex {} is not finite", i));
+    if (points[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw std::invalid_argument(fmt::format(
+          "mesh: vertex {} has a coordinate of {:g} m, too large (at most {:g} m: triangle areas "
+          "would overflow)",
+          i, points[i].cwiseAbs().maxCoeff(), kMaxCoordinate));
+  }
   std::shared_ptr<Geometry> g(new Geometry());
   g->kind_ = Kind::Mesh;
   g->vertices_.assign(points.begin(), points.end());
@@ -306,6 +312,10 @@ std::shared_ptr<const Geometry> Geometry::mesh(std::span<const Vec3> points,
       if (v < 0 || v >= nv)
         throw std::invalid_argument(
             fmt::format("mesh: triangle {} has vertex index {} out of range [0, {})", t, v, nv));
+    for (int k = 0; k < 3; ++k)
+      if (triangles[t][k] == triangles[t][(k + 1) % 3])
+        throw std::invalid_argument(
+            fmt::format("mesh: triangle {} repeats vertex {}", t, triangles[t][k]));
     const Vec3& a = points[triangles[t][0]];
     const Vec3 e1 = points[triangles[t][1]] - a, e2 = points[triangles[t][2]] - a;
     const Vec3 n = e1.cross(e2);

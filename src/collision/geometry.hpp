@@ -66,8 +66,9 @@ class Geometry {
   /// points within kMaxCoordinate, at least kMinSize apart, that span a volume (not all on one line
   /// or in one plane, nor within 1e-9 of their extent of it).
   static std::shared_ptr<const Geometry> convexHull(std::span<const Vec3> points);
-  /// A triangle mesh. Throws std::invalid_argument for an index out of range, a degenerate
-  /// triangle (zero area), no triangles or non-finite vertices.
+  /// A triangle mesh. Throws std::invalid_argument for an index out of range, a triangle that
+  /// repeats a vertex or is degenerate (zero area), no triangles, non-finite vertices or
+  /// coordinates beyond kMaxCoordinate.
   static std::shared_ptr<const Geometry> mesh(std::span<const Vec3> points,
                                               std::span<const std::array<int, 3>> triangles);
 
