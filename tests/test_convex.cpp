@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -684,16 +685,100 @@ TEST(MeshFile, BadFilesAreReportedWithTheirName) {
   // tinyobjloader reads a coordinate it cannot parse as 0: refused, with the line.
   const auto nan_vertex = tempFile("nan_vertex.obj");
   std::ofstream(nan_vertex) << "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n";
-  expectLoadError(nan_vertex, "line 2: vertex coordinate 'nan' is not a finite number");
+  expectLoadError(nan_vertex, "OBJ line 2: vertex coordinate 'nan' is not a finite number");
   const auto word_vertex = tempFile("word_vertex.obj");
   std::ofstream(word_vertex) << "# a comment\nv 0 0 0\nv 1 0 0\nv a b c\nf 1 2 3\n";
-  expectLoadError(word_vertex, "line 4: vertex coordinate 'a' is not a finite number");
+  expectLoadError(word_vertex, "OBJ line 4: vertex coordinate 'a' is not a finite number");
   const auto signed_vertex = tempFile("signed_vertex.obj");  // as tinyobjloader reads them
   std::ofstream(signed_vertex) << "v +0 -0 0\r\nv 1e0 0 0\r\nv 0 +1.0 0\r\nf 1 2 3\r\n";
   EXPECT_EQ(io::loadMeshFile(signed_vertex.string()).points[2], Vec3(0, 1, 0));
   const auto unknown = tempFile("mesh.ply");
   std::ofstream(unknown) << "ply\n";
   expectLoadError(unknown, "unknown extension");
+}
+
+/// The whole message of a file refused: "mesh file PATH: PROBLEM".
+void expectLoadMessage(const std::filesystem::path& path, const std::string& text,
+                       const std::string& problem) {
+  std::ofstream(path, std::ios::binary) << text;
+  try {
+    io::loadMeshFile(path.string());
+    ADD_FAILURE() << "no error for " << text;
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(e.what(), "mesh file " + path.string() + ": " + problem) << text;
+  }
+}
+
+// tinyobjloader's own text stays out (it stops at `f 0 1 2` and `f a b c` with "Failed parse `f'
+// line(e.g. zero value for face index..."); what it would read silently (a missing coordinate as
+// 0, an index beyond an int wrapped to a valid one) is refused; indices are quoted as written.
+TEST(MeshFile, ObjLinesAreCheckedWithTheirLineAndWords) {
+  const auto obj = tempFile("lines.obj");
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  expectLoadMessage(obj, tri + "f 0 1 2\n", "OBJ line 4: face index 0 (indices start at 1)");
+  expectLoadMessage(obj, tri + "f a b c\n", "OBJ line 4: 'a' is not a vertex index");
+  expectLoadMessage(obj, tri + "f 1 2 7\n", "OBJ line 4: vertex index 7 out of range [1, 3]");
+  expectLoadMessage(obj, tri + "f -1 -2 -9\n",
+                    "OBJ line 4: vertex index -9 out of range [-3, -1] (counting back from the 3 "
+                    "vertices before it)");
+  expectLoadMessage(
+      obj, "f -1 -2 -3\n" + tri,
+      "OBJ line 1: vertex index -1 counts back from no vertex (none comes before it)");
+  expectLoadMessage(obj, tri + "v 5 5 5\nf 1 2 2147483651\n",
+                    "OBJ line 5: vertex index 2147483651 out of range [1, 4]");
+  expectLoadMessage(obj, tri + "f 1 2 4294967299\n",
+                    "OBJ line 4: vertex index 4294967299 out of range [1, 3]");
+  expectLoadMessage(obj, tri + "f 1 2 99999999999999999999\n",
+                    "OBJ line 4: vertex index 99999999999999999999 out of range [1, 3]");
+  expectLoadMessage(obj, "f 1 2 3\n", "OBJ line 1: vertex index 1, but the file has no vertices");
+  expectLoadMessage(obj, "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+                    "OBJ line 1: a vertex needs 3 coordinates, got 2");
+  expectLoadMessage(obj, tri + "f 1 2\n", "OBJ line 4: a face needs at least 3 vertices, got 2");
+  expectLoadMessage(obj, tri + "f 1 2 -2\n", "OBJ line 4: the face repeats vertex 2");
+  expectLoadMessage(obj, tri + "f 1/1 2/0 3/1\n",
+                    "OBJ line 4: texture coordinate index 0 (indices start at 1)");
+  expectLoadMessage(obj, tri + "f 1//1 2//x 3//1\n", "OBJ line 4: '2//x' is not a vertex index");
+  expectLoadMessage(obj, tri + "f 1/ 2 3\n", "OBJ line 4: '1/' is not a vertex index");
+  // Line numbers as tinyobjloader counts them: "\r\n" and a lone "\r" end a line too.
+  expectLoadMessage(obj, "v 0 0 0\r\nv 1 0 0\rv 0 1 0\n\nf 1 2 0\n",
+                    "OBJ line 5: face index 0 (indices start at 1)");
+  // Another line tinyobjloader refuses: its line, not its text.
+  expectLoadMessage(obj, tri + "f 1 2 3\nl 0 1\n", "OBJ line 5: cannot read it");
+  // Still read: relative indices, v/vt/vn, vertices after the faces that use them.
+  std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3/1/1 -2//1 +3/2\nf 1 2 4\nv 0 0 1\n";
+  const ShapeDef m = io::loadMeshFile(obj.string());
+  ASSERT_EQ(m.triangles.size(), 2u);
+  EXPECT_EQ(m.triangles[0], (std::array<int, 3>{0, 1, 2}));
+  EXPECT_EQ(m.triangles[1], (std::array<int, 3>{0, 1, 3}));
+}
+
+TEST(MeshFile, StlProblemsAreReportedPlainly) {
+  const auto stl = tempFile("bad.stl");
+  const std::string head = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n";
+  const std::string tail = "endloop\nendfacet\nendsolid x\n";
+  expectLoadMessage(stl, head + "vertex 1 0\nvertex 0 1 0\n" + tail,
+                    "ASCII STL line 5: a vertex needs 3 coordinates, got 2");
+  expectLoadMessage(stl, head + "vertex 1 0 nan\nvertex 0 1 0\n" + tail,
+                    "ASCII STL line 5: vertex coordinate 'nan' is not a finite number");
+  expectLoadMessage(stl, head + "vertex 1 0 1e999\nvertex 0 1 0\n" + tail,
+                    "ASCII STL line 5: vertex coordinate '1e999' is not a finite number");
+  expectLoadMessage(stl, head + "vertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\n" + tail,
+                    "ASCII STL line 8: a facet needs 3 vertices, got 4");
+  expectLoadMessage(stl, head + "vertex 1 0 0\nvertex 0 1 0\n",
+                    "ASCII STL: truncated (no endsolid)");
+  // A solid with no facets is ASCII (not a binary file shorter than its header).
+  expectLoadMessage(stl, "solid empty\nendsolid empty\n", "no triangles");
+  // Binary: a count of 2^32 - 1 in a small file, a non-finite corner.
+  std::string bytes(80, ' ');
+  bytes += std::string("\xff\xff\xff\xff", 4) + std::string(100, '\0');
+  expectLoadMessage(stl, bytes,
+                    "truncated binary STL: 4294967295 triangles need 214748364834 bytes, the file "
+                    "has 184");
+  writeBinaryStl(stl, {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, std::nan(""))}});
+  std::ifstream in(stl, std::ios::binary);
+  const std::string nan_corner((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+  expectLoadMessage(stl, nan_corner, "triangle 0 has a non-finite coordinate");
 }
 
 // --- Prepared geometry and bad input ---
@@ -735,7 +820,11 @@ TEST(Geometry, BadInputThrows) {
   m.triangles = {{0, 1, 3}};
   EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // index out of range
   m.triangles = {{0, 1, 1}};
+  EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // repeats a vertex
+  m.points.push_back(Vec3(2, 0, 0));
+  m.triangles = {{0, 1, 3}};
   EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // degenerate
+  m.points.pop_back();
   m.triangles.clear();
   EXPECT_THROW(prepareGeometry(m), std::invalid_argument);  // no triangles
   m.triangles = {{0, 1, 2}};
@@ -745,6 +834,80 @@ TEST(Geometry, BadInputThrows) {
     prepareGeometry(convex({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}));
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("at least 4"), std::string::npos) << e.what();
+  }
+}
+
+std::string hullError(std::vector<Vec3> points) {
+  try {
+    prepareGeometry(convex(std::move(points)));
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// Point sets with no volume are named in plain words before Qhull sees them (it said "QH6154
+// Qhull precision error: Initial simplex is flat..." or "QH6421 qhull internal error..."), and
+// coordinates whose volume overflows are called too large, not a flat hull of volume -nan.
+TEST(Geometry, HullsWithoutAVolumeAreRefusedInPlainWords) {
+  EXPECT_EQ(hullError(std::vector<Vec3>(5, Vec3(1, 2, 3))), "convex: all 5 points are the same");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)}),
+            "convex: all 4 points lie on one line");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2, 2, 2), Vec3(0.1, 0.1, 0.1)}),
+            "convex: all 4 points lie on one line");
+  EXPECT_EQ(
+      hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0), Vec3(0.5, 0.5, 0)}),
+      "convex: all 5 points lie in one plane");
+  EXPECT_EQ(hullError({Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
+                       Vec3(0.3333333333333333, 0.3333333333333333, 0.3333333333333334)}),
+            "convex: all 4 points lie in one plane");
+  // A real tetrahedron, but 1e-9 m thick and 1e9 m across: beyond what the hull can resolve.
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1e-9, 0, 0), Vec3(0, 1e9, 0), Vec3(0, 0, 1e9)}),
+            "convex: the hull is 1.41e+09 m across but only 1e-09 m thick, a spread of 18 orders "
+            "of magnitude (at most 9)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1e-13)}),
+            "convex: the hull is 1.41 m across but only 1e-13 m thick, a spread of 13 orders of "
+            "magnitude (at most 9)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1e-12, 0), Vec3(0, 0, 1e-12)}),
+            "convex: the hull is 1 m long but only 1e-12 m wide, a spread of 12 orders of "
+            "magnitude (at most 9)");
+  EXPECT_EQ(
+      hullError({Vec3(1e300, 0, 0), Vec3(-1e300, 0, 0), Vec3(0, 1e300, 0), Vec3(0, 0, 1e300)}),
+      "convex: point 0 has a coordinate of 1e+300 m, too large (at most 1e+50 m: the hull's "
+      "volume and inertia would overflow)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(0, 1e150, 0), Vec3(0, 0, 1e150), Vec3(1, 0, 0)}),
+            "convex: point 1 has a coordinate of 1e+150 m, too large (at most 1e+50 m: the hull's "
+            "volume and inertia would overflow)");
+  EXPECT_EQ(hullError({Vec3(0, 0, 0), Vec3(1e-200, 0, 0), Vec3(0, 1e-200, 0), Vec3(0, 0, 1e-200)}),
+            "convex: the points span only 1e-200 m, too small (at least 1e-50 m: the hull's volume "
+            "and inertia would underflow)");
+  // Within the bounds, both ends.
+  for (double scale : {1e-50, 1e49}) {
+    const auto g = prepareGeometry(
+        convex({Vec3(0, 0, 0), Vec3(scale, 0, 0), Vec3(0, scale, 0), Vec3(0, 0, scale)}));
+    EXPECT_GT(g->volume(), 0.0);
+    EXPECT_TRUE(g->unitInertia().allFinite());
+    EXPECT_GT(g->unitInertia().diagonal().minCoeff(), 0.0);
+  }
+
+  ShapeDef m = shapeOf(ShapeType::Mesh);
+  m.points = {Vec3(1e300, 0, 0), Vec3(-1e300, 0, 0), Vec3(0, 1e300, 0)};
+  m.triangles = {{0, 1, 2}};
+  try {
+    prepareGeometry(m);
+    ADD_FAILURE() << "a mesh of 1e300 m accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "mesh: vertex 0 has a coordinate of 1e+300 m, too large (at most 1e+50 m: "
+                 "triangle areas would overflow)");
+  }
+  m.points = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  m.triangles = {{0, 1, 1}};
+  try {
+    prepareGeometry(m);
+    ADD_FAILURE() << "a triangle repeating a vertex accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "mesh: triangle 0 repeats vertex 1");
   }
 }
 

@@ -800,8 +800,27 @@ TEST(SceneError, Shapes) {
        "bodies[1].shapes[0].triangles[0][2]", "must be a point index in [0, 3), got 3"},
       {shape(R"({"type": "mesh", "file": "no_such_terrain.obj"})"), "bodies[1].shapes[0].file",
        "no_such_terrain.obj"},
+      {shape(R"({"type": "mesh", "file": ""})"), "bodies[1].shapes[0].file", "must not be empty"},
       {shape(R"({"type": "convex", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]})"),
-       "bodies[1].shapes[0].points", ""},
+       "bodies[1].shapes[0].points", "convex: all 4 points lie in one plane"},
+      {shape(
+           R"({"type": "convex", "points": [[0, 0, 0], [1e-9, 0, 0], [0, 1e9, 0], [0, 0, 1e9]]})"),
+       "bodies[1].shapes[0].points",
+       "convex: the hull is 1.41e+09 m across but only 1e-09 m thick, a spread of 18 orders of "
+       "magnitude (at most 9)"},
+      {shape(R"({"type": "convex",
+                 "points": [[1e300, 0, 0], [-1e300, 0, 0], [0, 1e300, 0], [0, 0, 1e300]]})"),
+       "bodies[1].shapes[0].points",
+       "convex: point 0 has a coordinate of 1e+300 m, too large (at most 1e+50 m: the hull's "
+       "volume and inertia would overflow)"},
+      {shape(R"({"type": "mesh", "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                 "triangles": [[0, 1, 1]]})"),
+       "bodies[1].shapes[0].triangles[0]", "repeats point 1"},
+      {shape(R"({"type": "mesh", "points": [[1e300, 0, 0], [-1e300, 0, 0], [0, 1e300, 0]],
+                 "triangles": [[0, 1, 2]]})"),
+       "bodies[1].shapes[0].points",
+       "mesh: vertex 0 has a coordinate of 1e+300 m, too large (at most 1e+50 m: triangle areas "
+       "would overflow)"},
   });
 }
 

@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <stdexcept>
@@ -42,6 +43,10 @@ namespace {
 bool finite(const Vec3& v) {
   return v.allFinite();
 }
+
+/// A hull thinner than this fraction of its size is refused (the flatness test after Qhull
+/// refuses them too, as a volume below 1e-9 of the extent cubed).
+constexpr double kThin = 1e-9;
 
 /// Captures Qhull's error text so it can go into the exception rather than onto stderr.
 class ErrorStream {
@@ -100,6 +105,48 @@ void orderCounterClockwise(std::vector<int>& face, const std::vector<Vec3>& vert
   for (std::size_t i = 0; i < face.size(); ++i) face[i] = keyed[i].second;
 }
 
+/// "a spread of 18 orders of magnitude (at most 9)": how much larger `big` is than `small`.
+std::string spread(double big, double small) {
+  return fmt::format("a spread of {:.0f} orders of magnitude (at most {:.0f})",
+                     std::floor(std::log10(big / small)), -std::log10(kThin));
+}
+
+/// Refuses points (not all the same) that span no volume, in plain words, before Qhull sees
+/// them (its messages are its own): all on one line or in one plane (exactly, as such; or too close
+/// to it for the hull to be computed reliably: within kThin of the points' extent, as with
+/// edges of 1e-9 and 1e9 m). The extent is the distance between a point a farthest from the
+/// first and the point b farthest from a; the line is ab; the plane is through ab and the
+/// point c farthest from that line.
+void checkSpansAVolume(std::span<const Vec3> points) {
+  const auto farthest = [&](auto&& distance) {
+    std::size_t best = 0;
+    double most = -1.0;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (const double d = distance(points[i]); d > most) best = i, most = d;
+    return std::pair(best, most);
+  };
+  const std::size_t n = points.size();
+  const Vec3 a = points[farthest([&](const Vec3& p) { return (p - points[0]).norm(); }).first];
+  const auto [ib, length] = farthest([&](const Vec3& p) { return (p - a).norm(); });
+  const Vec3 u = (points[ib] - a) / length;
+  const auto [ic, width] = farthest([&](const Vec3& p) { return (p - a).cross(u).norm(); });
+  if (width == 0.0)
+    throw std::invalid_argument(fmt::format("convex: all {} points lie on one line", n));
+  if (width < kThin * length)
+    throw std::invalid_argument(
+        fmt::format("convex: the hull is {:.3g} m long but only {:.3g} m wide, {}", length, width,
+                    spread(length, width)));
+  const Vec3 normal = u.cross(points[ic] - a).normalized();
+  const double thickness =
+      farthest([&](const Vec3& p) { return std::abs(normal.dot(p - a)); }).second;
+  if (thickness == 0.0)
+    throw std::invalid_argument(fmt::format("convex: all {} points lie in one plane", n));
+  if (thickness < kThin * length)
+    throw std::invalid_argument(
+        fmt::format("convex: the hull is {:.3g} m across but only {:.3g} m thick, {}", length,
+                    thickness, spread(length, thickness)));
+}
+
 Aabb triangleBox(const Vec3& a, const Vec3& b, const Vec3& c) {
   return Aabb{a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
 }
@@ -116,10 +163,25 @@ std::shared_ptr<const Geometry> Geometry::convexHull(std::span<const Vec3> point
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!finite(points[i]))
       throw std::invalid_argument(fmt::format("convex: point {} is not finite", i));
+    if (points[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw std::invalid_argument(fmt::format(
+          "convex: point {} has a coordinate of {:g} m, too large (at most {:g} m: the hull's "
+          "volume and inertia would overflow)",
+          i, points[i].cwiseAbs().maxCoeff(), kMaxCoordinate));
     coords.insert(coords.end(), {points[i].x(), points[i].y(), points[i].z()});
     lo = lo.cwiseMin(points[i]);
     hi = hi.cwiseMax(points[i]);
   }
+  // The size, without squares (which underflow for points 1e-200 apart).
+  const double size = (hi - lo).maxCoeff();
+  if (size == 0.0)
+    throw std::invalid_argument(fmt::format("convex: all {} points are the same", points.size()));
+  if (size < kMinSize)
+    throw std::invalid_argument(
+        fmt::format("convex: the points span only {:g} m, too small (at least {:g} m: the hull's "
+                    "volume and inertia would underflow)",
+                    size, kMinSize));
+  checkSpansAVolume(points);
 
   std::shared_ptr<Geometry> g(new Geometry());
   g->kind_ = Kind::Convex;
@@ -130,10 +192,12 @@ std::shared_ptr<const Geometry> Geometry::convexHull(std::span<const Vec3> point
     char flags[] = "qhull C-0 A-0.99999";
     const int code = qh_new_qhull(qh, 3, static_cast<int>(points.size()), coords.data(), False,
                                   flags, nullptr, err.file());
+    // Not Qhull's text (it speaks of its own internals): the cases it refuses are checked above,
+    // so this is one they missed.
     if (code != 0)
       throw std::invalid_argument(fmt::format(
-          "convex: the {} points have no 3-d hull (fewer than 4 non-coplanar points?): {}",
-          points.size(), err.firstLine()));
+          "convex: cannot compute the hull of the {} points (too close to flat for its precision)",
+          points.size()));
 
     // Vertices in increasing input order, so the result does not depend on Qhull's lists.
     std::vector<int> input_ids;
@@ -218,15 +282,26 @@ std::shared_ptr<const Geometry> Geometry::convexHull(std::span<const Vec3> point
   g->volume_ = volume;
   g->centroid_ = o + c;
   g->unit_inertia_ = central.trace() * Mat3::Identity() - central;
+  // The second moments go as the fifth power of the size (kMinSize keeps them representable).
+  if (!(g->unit_inertia_.diagonal().minCoeff() >= std::numeric_limits<double>::min()) ||
+      !g->unit_inertia_.allFinite())
+    throw std::invalid_argument(fmt::format(
+        "convex: the hull is too small ({:g} m across): its inertia underflows", extent));
   return g;
 }
 
 std::shared_ptr<const Geometry> Geometry::mesh(std::span<const Vec3> points,
                                                std::span<const std::array<int, 3>> triangles) {
   if (triangles.empty()) throw std::invalid_argument("mesh: has no triangles");
-  for (std::size_t i = 0; i < points.size(); ++i)
+  for (std::size_t i = 0; i < points.size(); ++i) {
     if (!finite(points[i]))
       throw std::invalid_argument(fmt::format("mesh: vertex {} is not finite", i));
+    if (points[i].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw std::invalid_argument(fmt::format(
+          "mesh: vertex {} has a coordinate of {:g} m, too large (at most {:g} m: triangle areas "
+          "would overflow)",
+          i, points[i].cwiseAbs().maxCoeff(), kMaxCoordinate));
+  }
   std::shared_ptr<Geometry> g(new Geometry());
   g->kind_ = Kind::Mesh;
   g->vertices_.assign(points.begin(), points.end());
@@ -237,6 +312,10 @@ std::shared_ptr<const Geometry> Geometry::mesh(std::span<const Vec3> points,
       if (v < 0 || v >= nv)
         throw std::invalid_argument(
             fmt::format("mesh: triangle {} has vertex index {} out of range [0, {})", t, v, nv));
+    for (int k = 0; k < 3; ++k)
+      if (triangles[t][k] == triangles[t][(k + 1) % 3])
+        throw std::invalid_argument(
+            fmt::format("mesh: triangle {} repeats vertex {}", t, triangles[t][k]));
     const Vec3& a = points[triangles[t][0]];
     const Vec3 e1 = points[triangles[t][1]] - a, e2 = points[triangles[t][2]] - a;
     const Vec3 n = e1.cross(e2);

@@ -53,11 +53,22 @@ class Geometry {
   enum class Kind { Convex, Mesh };
   static constexpr int kLeafSize = 4;
 
-  /// The hull of the points. Throws std::invalid_argument unless there are at least 4 finite,
-  /// non-coplanar points.
+  /// The largest coordinate of a hull's or a mesh's points (m). A hull's second moments grow as
+  /// the fifth power of its size (1e250 m^5 here, far from overflow at any sane density), Qhull's
+  /// determinants as the cube, a triangle's area vector as the square: beyond it they may not be
+  /// representable (1e150 m is already too far for Qhull).
+  static constexpr double kMaxCoordinate = 1e50;
+  /// The smallest extent of a hull's points along an axis (m): its volume and second moments,
+  /// as the cube and the fifth power, underflow before 1e-62 m.
+  static constexpr double kMinSize = 1e-50;
+
+  /// The hull of the points. Throws std::invalid_argument unless there are at least 4 finite
+  /// points within kMaxCoordinate, at least kMinSize apart, that span a volume (not all on one line
+  /// or in one plane, nor within 1e-9 of their extent of it).
   static std::shared_ptr<const Geometry> convexHull(std::span<const Vec3> points);
-  /// A triangle mesh. Throws std::invalid_argument for an index out of range, a degenerate
-  /// triangle (zero area), no triangles or non-finite vertices.
+  /// A triangle mesh. Throws std::invalid_argument for an index out of range, a triangle that
+  /// repeats a vertex or is degenerate (zero area), no triangles, non-finite vertices or
+  /// coordinates beyond kMaxCoordinate.
   static std::shared_ptr<const Geometry> mesh(std::span<const Vec3> points,
                                               std::span<const std::array<int, 3>> triangles);
 

@@ -15,9 +15,11 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
-#include <sstream>
+#include <optional>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 namespace linx::io {
@@ -64,6 +66,43 @@ class VertexWelder {
   std::map<std::array<double, 3>, int> ids_;
 };
 
+/// The lines of a text, split at "\n", "\r\n" or a lone "\r" (as tinyobjloader splits an OBJ's, so
+/// that the line numbers agree).
+std::vector<std::string_view> textLines(std::string_view text) {
+  std::vector<std::string_view> lines;
+  std::size_t begin = 0;
+  while (begin < text.size()) {
+    const std::size_t end = std::min(text.find_first_of("\r\n", begin), text.size());
+    lines.push_back(text.substr(begin, end - begin));
+    begin = end + 1;
+    if (end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n') ++begin;
+  }
+  return lines;
+}
+
+/// A line's words, split at spaces and tabs.
+std::vector<std::string_view> lineWords(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t begin = line.find_first_not_of(" \t");
+  while (begin != std::string_view::npos) {
+    const std::size_t end = std::min(line.find_first_of(" \t", begin), line.size());
+    words.push_back(line.substr(begin, end - begin));
+    begin = line.find_first_not_of(" \t", end);
+  }
+  return words;
+}
+
+/// A word that is a finite number ('+' allowed), or nullopt.
+std::optional<double> finiteNumber(std::string_view word) {
+  if (!word.empty() && word.front() == '+') word.remove_prefix(1);  // from_chars takes no '+'
+  double value = 0.0;
+  const char* end = word.data() + word.size();
+  const auto [stop, error] = std::from_chars(word.data(), end, value);
+  if (word.empty() || error != std::errc{} || stop != end || !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
 void checkFinite(const std::string& path, const Vec3& p, std::size_t triangle) {
   if (!p.allFinite()) fail(path, fmt::format("triangle {} has a non-finite coordinate", triangle));
 }
@@ -92,25 +131,35 @@ void readBinaryStl(const std::string& path, const std::string& bytes, ShapeDef& 
 }
 
 void readAsciiStl(const std::string& path, const std::string& text, ShapeDef& mesh) {
-  std::istringstream in(text);
-  std::string word;
   VertexWelder welder;
   std::vector<int> corners;
+  std::size_t loop_start = 0;  // corners before the current facet's loop
   bool ended = false;
-  while (in >> word) {
-    if (word == "vertex") {
-      double x = 0, y = 0, z = 0;
-      if (!(in >> x >> y >> z))
-        fail(path, fmt::format("ASCII STL: vertex {} is not three numbers", corners.size()));
-      const Vec3 p(x, y, z);
-      checkFinite(path, p, corners.size() / 3);
+  const std::vector<std::string_view> lines = textLines(text);
+  for (std::size_t number = 1; number <= lines.size() && !ended; ++number) {
+    const auto words = lineWords(lines[number - 1]);
+    if (words.empty()) continue;
+    const auto bad = [&](const std::string& problem) {
+      fail(path, fmt::format("ASCII STL line {}: {}", number, problem));
+    };
+    if (words[0] == "vertex") {
+      if (words.size() != 4)
+        bad(fmt::format("a vertex needs 3 coordinates, got {}", words.size() - 1));
+      Vec3 p;
+      for (int k = 0; k < 3; ++k) {
+        const auto x = finiteNumber(words[static_cast<std::size_t>(k) + 1]);
+        if (!x)
+          bad(fmt::format("vertex coordinate '{}' is not a finite number",
+                          words[static_cast<std::size_t>(k) + 1]));
+        p[k] = *x;
+      }
       corners.push_back(welder.index(p));
-    } else if (word == "endloop") {
-      if (corners.size() % 3 != 0)
-        fail(path, fmt::format("ASCII STL: facet {} does not have 3 vertices", corners.size() / 3));
-    } else if (word == "endsolid") {
+    } else if (words[0] == "endloop") {
+      if (corners.size() - loop_start != 3)
+        bad(fmt::format("a facet needs 3 vertices, got {}", corners.size() - loop_start));
+      loop_start = corners.size();
+    } else if (words[0] == "endsolid") {
       ended = true;
-      break;
     }
   }
   if (!ended) fail(path, "ASCII STL: truncated (no endsolid)");
@@ -131,7 +180,7 @@ void readStl(const std::string& path, ShapeDef& mesh) {
   }
   const auto first = bytes.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && bytes.compare(first, 5, "solid") == 0 &&
-      bytes.find("facet") != std::string::npos)
+      (bytes.find("facet") != std::string::npos || bytes.find("endsolid") != std::string::npos))
     return readAsciiStl(path, bytes, mesh);
   if (bytes.size() < 84)
     fail(path,
@@ -139,40 +188,113 @@ void readStl(const std::string& path, ShapeDef& mesh) {
   readBinaryStl(path, bytes, mesh);  // reports the size mismatch
 }
 
-/// tinyobjloader reads a coordinate it cannot parse (`v nan 0 0`, `v a b c`) as 0: each vertex
-/// line's numbers are checked first, so a bad one is refused with its line.
-void checkObjVertices(const std::string& path, const std::string& bytes) {
-  std::istringstream lines(bytes);
-  std::string line;
-  for (int number = 1; std::getline(lines, line); ++number) {
-    std::istringstream words(line);
-    std::string tag;
-    if (!(words >> tag) || tag != "v") continue;
-    std::string word;
-    while (words >> word) {
-      double value = 0.0;
-      const char* begin = word.data() + (word.front() == '+' ? 1 : 0);  // from_chars takes no '+'
-      const char* end = word.data() + word.size();
-      const auto [stop, error] = std::from_chars(begin, end, value);
-      if (error != std::errc{} || stop != end || !std::isfinite(value))
-        fail(path, fmt::format("OBJ: line {}: vertex coordinate '{}' is not a finite number",
-                               number, word));
+/// An OBJ index: an integer, '+' allowed as atoi allows it. One beyond long long is clamped (it is
+/// out of range whatever the file); not an integer: nullopt.
+std::optional<long long> objIndex(std::string_view word) {
+  if (!word.empty() && word.front() == '+') word.remove_prefix(1);
+  long long value = 0;
+  const char* end = word.data() + word.size();
+  const auto [stop, error] = std::from_chars(word.data(), end, value);
+  if (word.empty() || stop != end) return std::nullopt;
+  if (error == std::errc::result_out_of_range)
+    return word.front() == '-' ? std::numeric_limits<long long>::min()
+                               : std::numeric_limits<long long>::max();
+  if (error != std::errc{}) return std::nullopt;
+  return value;
+}
+
+/// tinyobjloader reads a coordinate it cannot parse (`v nan 0 0`, `v a b c`) as 0 and a missing
+/// one (`v 0 0`) as 0, stops with its own text at a face index of 0 or a word (`f a b c`), and
+/// wraps an index beyond an int (`f 1 2 4294967299` is vertex 3): each vertex and face line is
+/// checked here first, so that a bad one is refused with its line and the file's own words.
+/// Positive indices may name vertices further down (tinyobjloader checks them at the end);
+/// negative ones count back from the vertices before the face.
+void checkObjLines(const std::string& path, std::string_view text) {
+  const std::vector<std::string_view> lines = textLines(text);
+  long long total = 0;
+  for (std::string_view line : lines) {
+    const auto words = lineWords(line);
+    total += !words.empty() && words[0] == "v";
+  }
+  long long before = 0;  // vertices above the current line
+  for (std::size_t number = 1; number <= lines.size(); ++number) {
+    const auto words = lineWords(lines[number - 1]);
+    if (words.empty()) continue;
+    const auto bad = [&](const std::string& problem) {
+      fail(path, fmt::format("OBJ line {}: {}", number, problem));
+    };
+    if (words[0] == "v") {
+      for (std::size_t k = 1; k < words.size(); ++k)
+        if (!finiteNumber(words[k]))
+          bad(fmt::format("vertex coordinate '{}' is not a finite number", words[k]));
+      if (words.size() < 4)
+        bad(fmt::format("a vertex needs 3 coordinates, got {}", words.size() - 1));
+      ++before;
+    } else if (words[0] == "f") {
+      if (words.size() < 4)
+        bad(fmt::format("a face needs at least 3 vertices, got {}", words.size() - 1));
+      std::vector<long long> corners;
+      for (std::size_t k = 1; k < words.size(); ++k) {
+        const std::string_view word = words[k];
+        // v, v/vt, v//vn or v/vt/vn
+        std::vector<std::string_view> parts;
+        for (std::size_t begin = 0;;) {
+          const std::size_t slash = word.find('/', begin);
+          parts.push_back(
+              word.substr(begin, slash == std::string_view::npos ? slash : slash - begin));
+          if (slash == std::string_view::npos) break;
+          begin = slash + 1;
+        }
+        const bool shaped = parts.size() <= 3 && !parts[0].empty() &&
+                            (parts.size() != 2 || !parts[1].empty()) &&
+                            (parts.size() != 3 || !parts[2].empty());
+        std::array<std::optional<long long>, 3> index{};
+        for (std::size_t p = 0; shaped && p < parts.size(); ++p)
+          if (!parts[p].empty()) index[p] = objIndex(parts[p]);
+        const bool integers = shaped && index[0] &&
+                              (parts.size() < 2 || parts[1].empty() || index[1]) &&
+                              (parts.size() < 3 || index[2]);
+        if (!integers) bad(fmt::format("'{}' is not a vertex index", word));
+        static constexpr std::array<const char*, 3> kWhat{"face", "texture coordinate", "normal"};
+        for (std::size_t p = 0; p < 3; ++p)
+          if (index[p] && *index[p] == 0)
+            bad(fmt::format("{} index 0 (indices start at 1)", kWhat[p]));
+        const long long v = *index[0];
+        if (v > 0 && v > total)
+          bad(total == 0 ? fmt::format("vertex index {}, but the file has no vertices", parts[0])
+                         : fmt::format("vertex index {} out of range [1, {}]", parts[0], total));
+        if (v < 0 && v < -before)
+          bad(before == 0
+                  ? fmt::format("vertex index {} counts back from no vertex (none comes before it)",
+                                parts[0])
+                  : fmt::format("vertex index {} out of range [-{}, -1] (counting back from the "
+                                "{} vertices before it)",
+                                parts[0], before, before));
+        const long long corner = v > 0 ? v - 1 : before + v;
+        if (std::find(corners.begin(), corners.end(), corner) != corners.end())
+          bad(fmt::format("the face repeats vertex {}", corner + 1));
+        corners.push_back(corner);
+      }
     }
   }
 }
 
 void readObj(const std::string& path, ShapeDef& mesh) {
   const std::string text = readAll(path);
-  checkObjVertices(path, text);  // missing / empty, bad numbers: with our messages
+  checkObjLines(path, text);  // bad numbers and indices: with our messages
   tinyobj::ObjReader reader;
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   config.vertex_color = false;
   // From the text read (the file checked is the file parsed); materials are not used.
   if (!reader.ParseFromString(text, "", config)) {
-    std::string error = reader.Error();
-    while (!error.empty() && (error.back() == '\n' || error.back() == '\r')) error.pop_back();
-    fail(path, fmt::format("OBJ: {}", error.empty() ? "cannot parse it" : error));
+    // Not its text (it speaks of its own parser): the line it names, if any.
+    const std::string& error = reader.Error();
+    const auto at = error.find("line");
+    const auto digits = error.find_first_of("0123456789", at);
+    if (at == std::string::npos || digits == std::string::npos) fail(path, "OBJ: cannot read it");
+    const auto end = error.find_first_not_of("0123456789", digits);
+    fail(path, fmt::format("OBJ line {}: cannot read it", error.substr(digits, end - digits)));
   }
   const auto& v = reader.GetAttrib().vertices;
   const int count = static_cast<int>(v.size() / 3);
@@ -186,14 +308,16 @@ void readObj(const std::string& path, ShapeDef& mesh) {
     std::size_t next = 0;
     for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
       const std::size_t n = shape.mesh.num_face_vertices[f];
+      // Checked line by line above: these are the library's result not matching that check.
+      const std::string of = shape.name.empty() ? "" : fmt::format(" of '{}'", shape.name);
       if (n < 3 || next + n > indices.size())
-        fail(path, fmt::format("OBJ: face {} of '{}' has {} vertices", f + 1, shape.name, n));
+        fail(path, fmt::format("OBJ: face {}{} has {} vertices", f + 1, of, n));
       std::vector<int> face;
       for (std::size_t k = 0; k < n; ++k) {
         const int index = indices[next + k].vertex_index;
         if (index < 0 || index >= count)
-          fail(path, fmt::format("OBJ: face {} of '{}' has vertex index {} out of range [1, {}]",
-                                 f + 1, shape.name, index + 1, count));
+          fail(path, fmt::format("OBJ: face {}{} has vertex index {} out of range [1, {}]", f + 1,
+                                 of, index + 1, count));
         face.push_back(index);
       }
       next += n;

@@ -14,7 +14,8 @@ namespace linx::io {
 
 /// A Mesh shape (type, points, triangles, file) read from an .obj or .stl file (by extension,
 /// case-insensitive). Throws std::runtime_error naming the file and the problem: missing or
-/// unreadable, empty, truncated binary STL, malformed ASCII STL or OBJ, a vertex index out of
+/// unreadable, empty, truncated binary STL, malformed ASCII STL or OBJ (with the line, and the
+/// file's own words: `OBJ line 4: face index 0 (indices start at 1)`), a vertex index out of
 /// range, non-finite coordinates, no triangles, an unknown extension.
 ShapeDef loadMeshFile(const std::string& path);
 

@@ -636,6 +636,8 @@ class Reader {
       for (std::string_view key : {"points", "triangles"})
         if (n.value.contains(key))
           fail(childPath(n.path, key), "give either a file or points and triangles");
+      // (An empty name would reach std::filesystem, whose error text is its own.)
+      if (string(*file).empty()) fail(file->path, "must not be empty");
       const std::filesystem::path path = std::filesystem::path(file_).parent_path() / string(*file);
       ShapeDef loaded;
       try {
@@ -666,6 +668,9 @@ class Reader {
                            tri.value[static_cast<std::size_t>(k)].dump()));
         v[static_cast<std::size_t>(k)] = static_cast<int>(idx[k]);
       }
+      // Here rather than in the geometry's check, which can name only the points.
+      for (std::size_t k = 0; k < 3; ++k)
+        if (v[k] == v[(k + 1) % 3]) fail(tri.path, fmt::format("repeats point {}", v[k]));
       s.triangles.push_back(v);
     }
   }
