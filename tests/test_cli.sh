@@ -283,7 +283,7 @@ EOF
     # Under the default speed bound the same body is refused by the check: it would stop at once.
     sed 's/, "faults": {"max_speed": 1.7e308}//' runaway.json >fast.json
     expect 2 "$linx" check fast.json
-    expect_error_line "linx: fast.json: bodies[0].linear_velocity: the body starts at 1.5e+308 m/s, above faults.max_speed (10000 m/s): the run would stop at its first step"
+    expect_error_line "linx: fast.json: bodies[0].linear_velocity: the body starts at 1.5e+308 m/s, above faults.max_speed (10000 m/s) (raise the bound to allow it)"
 
     # A body that gravity makes too fast stops at the step where it passes the bound.
     cat >bound.json <<'EOF'

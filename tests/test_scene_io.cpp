@@ -510,7 +510,12 @@ TEST(SceneError, MalformedJson) {
   linx::SceneError e = errorOf("{\n  \"timestep\": 0.001\n  \"duration\": 1\n}");
   EXPECT_EQ(e.field(), "line 3, column 12");  // where the parser gave up: after "duration"
   EXPECT_NE(e.problem().find("syntax error"), std::string::npos) << e.problem();
-  EXPECT_EQ(errorOf("").field(), "line 1, column 1");
+  EXPECT_EQ(errorOf("").problem(), "the file is empty (a scene is a JSON object, {...})");
+  EXPECT_EQ(errorOf(std::string("{\0}", 3)).problem(),
+            "a NUL byte at offset 1: a binary file, not JSON text");
+  // A byte that is not printable text is quoted escaped.
+  EXPECT_NE(errorOf("{\"a\xff\": 1}").problem().find("last read: '\"a\\xff'"), std::string::npos)
+      << errorOf("{\"a\xff\": 1}").problem();
   EXPECT_EQ(errorOf("{} x").field(), "line 1, column 4");
   EXPECT_EQ(errorOf(R"({"bodies": [1,]})").field(), "line 1, column 15");
   // JSON has no comments.

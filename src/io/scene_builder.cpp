@@ -70,7 +70,7 @@ void checkStart(const Scene& scene, const World& world, std::size_t i) {
                                error));
 }
 
-// A body that starts faster than the fault bounds would stop the run at its first step: refused
+// A body that starts faster than the fault bounds is a fault from the start: refused
 // by the check, where the bounds are known, unless faults do not stop the run.
 void checkStartSpeed(const Scene& scene, const World& world, std::size_t i) {
   const FaultSettings& faults = scene.settings.faults;
@@ -80,13 +80,13 @@ void checkStartSpeed(const Scene& scene, const World& world, std::size_t i) {
   const std::string place = fmt::format("bodies[{}]", i);
   if (v > faults.max_speed)
     throw SceneError(scene.file, place + ".linear_velocity",
-                     fmt::format("the body starts at {:.6g} m/s, above faults.max_speed ({} m/s): "
-                                 "the run would stop at its first step",
+                     fmt::format("the body starts at {:.6g} m/s, above faults.max_speed ({} m/s) "
+                                 "(raise the bound to allow it)",
                                  v, faults.max_speed));
   if (w > faults.max_angular_speed)
     throw SceneError(scene.file, place + ".angular_velocity",
                      fmt::format("the body starts at {:.6g} rad/s, above faults.max_angular_speed "
-                                 "({} rad/s): the run would stop at its first step",
+                                 "({} rad/s) (raise the bound to allow it)",
                                  w, faults.max_angular_speed));
 }
 

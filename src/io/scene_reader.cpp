@@ -141,6 +141,20 @@ std::string describe(const json& value) {
   }
 }
 
+// Text from a file as a message quotes it: bytes that are not printable ASCII escaped (\xNN), at
+// most `limit` characters.
+std::string shownText(std::string_view text, std::size_t limit = 60) {
+  std::string out;
+  for (const char c : text.substr(0, limit)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f)
+      out += c;
+    else
+      out += fmt::format("\\x{:02x}", byte);
+  }
+  return text.size() > limit ? out + "..." : out;
+}
+
 // " (did you mean 'mass'?)" when one of `names` is close to `name`, else "".
 template <typename Names>
 std::string suggestion(std::string_view name, const Names& names) {
@@ -1198,6 +1212,7 @@ class Reader {
     Signal table({}, {});
     if (const auto file = get(n, "file")) {
       const std::string name = string(*file);
+      if (name.empty()) fail(file->path, "must not be empty");
       for (std::string_view key : {"times", "values"})
         if (n.value.contains(key))
           fail(childPath(n.path, key), "give either a file or times and values");
@@ -1233,20 +1248,6 @@ class Reader {
     return table;
   }
 
-  // A line of a text file as a message quotes it: bytes that are not printable ASCII escaped
-  // (\xNN), at most 60 characters.
-  static std::string shownLine(std::string_view line) {
-    std::string out;
-    for (const char c : line.substr(0, 60)) {
-      const auto byte = static_cast<unsigned char>(c);
-      if (byte >= 0x20 && byte < 0x7f)
-        out += c;
-      else
-        out += fmt::format("\\x{:02x}", byte);
-    }
-    return line.size() > 60 ? out + "..." : out;
-  }
-
   // Two columns of numbers, time and value, one row per line; the first line may be a header.
   Signal tableFile(const std::filesystem::path& path, const std::string& field) const {
     std::string text;
@@ -1278,7 +1279,7 @@ class Reader {
       if (!ok) {
         if (number == 1) continue;  // a header
         fail(field, fmt::format("{} line {}: expected two numbers, time and value, got '{}'",
-                                path.string(), number, shownLine(line)));
+                                path.string(), number, shownText(line)));
       }
       if (!table.times.empty() && !(t > table.times.back()))
         fail(field, fmt::format("{} line {}: time {} is not after the one before it ({})",
@@ -1317,6 +1318,11 @@ std::string stripPrefix(const std::string& message, std::string_view marker) {
 }  // namespace
 
 Scene parseScene(std::string_view text, const std::string& file, const ImportOptions& options) {
+  if (text.find_first_not_of(" \t\r\n") == std::string_view::npos)
+    throw SceneError(file, "", "the file is empty (a scene is a JSON object, {...})");
+  if (const auto nul = text.find('\0'); nul != std::string_view::npos)
+    throw SceneError(file, "",
+                     fmt::format("a NUL byte at offset {}: a binary file, not JSON text", nul));
   json root;
   PathTracker tracker(file);
   try {
@@ -1329,9 +1335,9 @@ Scene parseScene(std::string_view text, const std::string& file, const ImportOpt
     const std::string rest = stripPrefix(e.what(), "parse error at ");
     const auto colon = rest.find(": ");
     if (rest.rfind("line ", 0) == 0 && colon != std::string::npos) {
-      throw SceneError(file, rest.substr(0, colon), rest.substr(colon + 2));
+      throw SceneError(file, rest.substr(0, colon), shownText(rest.substr(colon + 2), 200));
     }
-    throw SceneError(file, "(json)", rest);
+    throw SceneError(file, "(json)", shownText(rest, 200));
   } catch (const json::exception& e) {
     // A number too large for a double: the tracker knows which field it was.
     const std::string path = tracker.current();
