@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (fuzz/) with clang, AddressSanitizer and UBSan, and runs each for
-# SECONDS (default 30) from a seed corpus of the repository's own inputs (examples/, test data).
+# SECONDS (default 30) from a seed corpus of the repository's own inputs (examples/, test data,
+# the bad inputs of tests/bad_inputs/).
 # Prints each harness's executions; a crash, a sanitizer report or a leak fails the script and
 # leaves the input that caused it in build-fuzz/findings/. Usage: scripts/fuzz.sh [SECONDS]
 set -euo pipefail
@@ -17,12 +18,12 @@ cmake --build build-fuzz -j "$(nproc)" --target fuzz_scene fuzz_mesh fuzz_model 
 corpus=build-fuzz/corpus
 rm -rf "$corpus"
 mkdir -p "$corpus"/{scene,mesh,model,state} build-fuzz/findings
-cp examples/*.json "$corpus/scene/"
-for f in $(find examples tests/data -name '*.obj' -o -name '*.stl' 2>/dev/null); do
+cp examples/*.json tests/bad_inputs/*.json "$corpus/scene/"
+for f in $(find examples tests/data tests/bad_inputs -name '*.obj' -o -name '*.stl' 2>/dev/null); do
   kind=0; [[ $f == *.stl ]] && kind=1
   { printf "\\x$(printf %02x $kind)"; cat "$f"; } >"$corpus/mesh/$(basename "$f")"
 done
-for f in $(find examples tests/data -name '*.urdf' -o -name '*.xml' 2>/dev/null); do
+for f in $(find examples tests/data tests/bad_inputs -name '*.urdf' -o -name '*.xml' 2>/dev/null); do
   kind=0; [[ $f == *.xml ]] && kind=1
   { printf "\\x$(printf %02x $kind)"; cat "$f"; } >"$corpus/model/$(basename "$f")"
 done

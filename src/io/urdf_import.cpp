@@ -26,6 +26,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -227,6 +228,51 @@ class NumberCheck {
   std::string file_;
 };
 
+// What urdfdom refuses with a message naming no line ("Joint [yaw] has no known type
+// [spherical]"), said first with the element and its line: names (present, links' unique),
+// joint types, a revolute or prismatic joint's <limit>, the links a joint names.
+void checkStructure(const tinyxml2::XMLElement* robot, const std::string& file) {
+  const auto fail = [&](const tinyxml2::XMLElement* e, const std::string& owner,
+                        const std::string& problem) {
+    throw SceneError(file, fmt::format("{} (line {})", owner, e->GetLineNum()), problem);
+  };
+  std::map<std::string, int> links;  // name, line
+  for (auto* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {
+    const char* name = e->Attribute("name");
+    if (!name || !*name) fail(e, "link", "name: missing");
+    const auto [at, added] = links.emplace(name, e->GetLineNum());
+    if (!added)
+      fail(e, fmt::format("link '{}'", name),
+           fmt::format("name: another link has it (line {})", at->second));
+  }
+  std::set<std::string> joints;
+  for (auto* e = robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint")) {
+    const char* name = e->Attribute("name");
+    if (!name || !*name) fail(e, "joint", "name: missing");
+    const std::string owner = fmt::format("joint '{}'", name);
+    if (!joints.insert(name).second) fail(e, owner, "name: another joint has it");
+    const std::string type = e->Attribute("type") ? e->Attribute("type") : "";
+    static const std::set<std::string> kTypes = {"revolute", "continuous", "prismatic",
+                                                 "fixed",    "floating",   "planar"};
+    if (!kTypes.contains(type))
+      fail(e, owner,
+           type.empty() ? "type: missing"
+                        : fmt::format("type: '{}' is not a URDF joint type (revolute, continuous, "
+                                      "prismatic, fixed, floating, planar)",
+                                      type));
+    if ((type == "revolute" || type == "prismatic") && !e->FirstChildElement("limit"))
+      fail(e, owner,
+           fmt::format("a {} joint needs a <limit> (lower, upper, effort, velocity)", type));
+    for (const char* end : {"parent", "child"}) {
+      const tinyxml2::XMLElement* ref = e->FirstChildElement(end);
+      const char* link = ref ? ref->Attribute("link") : nullptr;
+      if (!link) fail(e, owner, fmt::format("<{} link=...>: missing", end));
+      if (!links.contains(link))
+        fail(ref, owner + " <" + end + ">", fmt::format("link: no link '{}'", link));
+    }
+  }
+}
+
 XmlSurvey survey(const std::string& text, const std::string& file) {
   tinyxml2::XMLDocument doc;
   io::parseXml(doc, text, file);
@@ -264,6 +310,7 @@ XmlSurvey survey(const std::string& text, const std::string& file) {
       s.unsupported.add("<" + tag + ">");
     }
   }
+  checkStructure(robot, file);
   return s;
 }
 
