@@ -715,8 +715,12 @@ class MjcfImporter {
     s.mask = bits(e, cls, "conaffinity");
     if (density_body && isSolid(s.type)) {
       const auto mass = vector(e, "geom", cls, "mass", 1);
+      if (mass && !((*mass)[0] >= 0.0))
+        fail(where(e), fmt::format("mass: must be >= 0, got {}", (*mass)[0]));
       s.density =
           mass ? (*mass)[0] / shapeVolume(s) : number(e, "geom", cls, "density", kDefaultDensity);
+      if (!mass && !(*s.density >= 0.0))
+        fail(where(e), fmt::format("density: must be >= 0, got {}", *s.density));
     }
     return s;
   }
