@@ -11,11 +11,13 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <tuple>
 #include <vector>
 
+#include "collision/manifold_reduction.hpp"
 #include "collision/primitive_pairs.hpp"
 
 namespace linx::collision {
@@ -753,3 +755,25 @@ TEST(Degenerate, GridPlacementsStayFiniteAndDeterministic) {
 
 }  // namespace
 }  // namespace linx::collision
+
+// Found by fuzz_state (UBSan: an index of -1 in reduceManifold): contact points of a state that
+// overflowed, non-finite, compare with nothing. The reduction keeps one and reads nothing outside
+// the points; the step's checks then name the state.
+TEST(ManifoldReduction, NonFinitePointsKeepOneAndReadNothingOutside) {
+  using linx::collision::ContactPoint;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double bad : {nan, inf}) {
+    std::vector<ContactPoint> points(1);  // a point of an earlier pair, kept as it is
+    points[0].depth = 0.5;
+    for (int k = 0; k < 5; ++k) {
+      ContactPoint p;
+      p.point = linx::Vec3(bad, k, 0);
+      p.depth = bad;
+      points.push_back(p);
+    }
+    linx::collision::reduceManifold(points, 1, linx::Vec3::UnitZ());
+    ASSERT_EQ(points.size(), 2u) << bad;
+    EXPECT_EQ(points[0].depth, 0.5);
+  }
+}

@@ -30,6 +30,9 @@ void reduceManifold(std::vector<ContactPoint>& points, std::size_t first, const 
       i0 = k;
     }
   }
+  // Non-finite points (a state that overflowed) compare with nothing: keep one, and leave the
+  // state to the step's checks, which name it.
+  if (i0 == kNone) i0 = 0;
   // 2. The farthest from it.
   std::size_t i1 = kNone;
   best = -1.0;
@@ -40,6 +43,11 @@ void reduceManifold(std::vector<ContactPoint>& points, std::size_t first, const 
       best = d;
       i1 = k;
     }
+  }
+  if (i1 == kNone) {
+    points[first] = ContactPoint(at(i0));
+    points.resize(first + 1);
+    return;
   }
   const Vec3 p0 = at(i0).point, p1 = at(i1).point;
   // (m^2) areas below this add nothing: a point within ~1e-8 spans of the line or triangle.

@@ -370,6 +370,18 @@ class UrdfImporter {
  public:
   UrdfImporter(const std::filesystem::path& path, const ImportOptions& options)
       : path_(path), file_(path.string()), options_(options) {}
+  // A URDF whose joints form a loop leaves urdfdom's links owning one another in a ring (each
+  // holds its children): broken here, or the model is never freed (found by fuzz_model).
+  ~UrdfImporter() {
+    if (!model_) return;
+    for (auto& [name, link] : model_->links_) {
+      if (!link) continue;
+      link->child_links.clear();
+      link->child_joints.clear();
+    }
+  }
+  UrdfImporter(const UrdfImporter&) = delete;
+  UrdfImporter& operator=(const UrdfImporter&) = delete;
 
   Scene run() {
     const std::string text = readText();
