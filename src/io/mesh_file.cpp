@@ -2,6 +2,7 @@
 #include "io/mesh_file.hpp"
 
 #include "io/input_file.hpp"
+#include "io/text_number.hpp"
 
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
@@ -90,17 +91,6 @@ std::vector<std::string_view> lineWords(std::string_view line) {
     begin = line.find_first_not_of(" \t", end);
   }
   return words;
-}
-
-/// A word that is a finite number ('+' allowed), or nullopt.
-std::optional<double> finiteNumber(std::string_view word) {
-  if (!word.empty() && word.front() == '+') word.remove_prefix(1);  // from_chars takes no '+'
-  double value = 0.0;
-  const char* end = word.data() + word.size();
-  const auto [stop, error] = std::from_chars(word.data(), end, value);
-  if (word.empty() || error != std::errc{} || stop != end || !std::isfinite(value))
-    return std::nullopt;
-  return value;
 }
 
 void checkFinite(const std::string& path, const Vec3& p, std::size_t triangle) {

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -28,6 +27,7 @@
 #include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
 #include "io/suggestion.hpp"
+#include "io/text_number.hpp"
 
 namespace linx {
 
@@ -1264,15 +1264,14 @@ class Reader {
       if (line.empty()) continue;
       const auto comma = line.find(',');
       double t = 0.0, v = 0.0;
-      // A decimal number between optional blanks (not hex, inf or nan, which strtod takes).
+      // A number between optional blanks (io::finiteNumber).
       const auto parse = [](std::string_view text, double& x) {
         const auto begin = text.find_first_not_of(" \t");
         if (begin == std::string_view::npos) return false;
-        text = text.substr(begin, text.find_last_not_of(" \t") + 1 - begin);
-        if (text.size() > 1 && text.front() == '+' && text[1] != '-') text.remove_prefix(1);
-        const auto [end, error] =
-            std::from_chars(text.data(), text.data() + text.size(), x, std::chars_format::general);
-        return error == std::errc() && end == text.data() + text.size() && std::isfinite(x);
+        const auto number =
+            io::finiteNumber(text.substr(begin, text.find_last_not_of(" \t") + 1 - begin));
+        if (number) x = *number;
+        return number.has_value();
       };
       const bool ok = comma != std::string::npos && parse(line.substr(0, comma), t) &&
                       parse(line.substr(comma + 1), v);
