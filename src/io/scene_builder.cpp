@@ -5,25 +5,51 @@
 
 #include <fmt/format.h>
 
-#include <regex>
+#include <cctype>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace linx {
 
 namespace {
 
+// The length of the field path that starts `what` ("limits.lower" of "limits.lower: must ..."):
+// names, indices ("[2]") and dots, then ": "; 0 when it starts with none.
+std::size_t fieldPathLength(std::string_view what) {
+  const auto letter = [](char c) {
+    return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+  };
+  const auto digit = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; };
+  std::size_t i = 0;
+  bool named = false;  // a name ends here (a '[' or a '.' may follow)
+  while (i < what.size()) {
+    const char c = what[i];
+    if (letter(c) || (named && digit(c))) {
+      named = true;
+      ++i;
+    } else if (c == '[' && named) {
+      std::size_t j = i + 1;
+      while (j < what.size() && digit(what[j])) ++j;
+      if (j == i + 1 || j == what.size() || what[j] != ']') return 0;
+      i = j + 1;
+    } else if (c == '.' && named) {
+      named = false;
+      ++i;
+    } else {
+      break;
+    }
+  }
+  return named && what.substr(i, 2) == ": " ? i : 0;
+}
+
 // The engine's refusal of the definition at `place` ("joints[2]"): its message starts with the
 // field it is about when it knows it ("limits.lower: ..."), which joins the place's path
 // ("joints[2].limits.lower: ...").
 SceneError refused(const std::string& file, const std::string& place, const std::string& what) {
-  static const std::regex field(
-      R"(^([A-Za-z_][A-Za-z0-9_]*(\[[0-9]+\])*(\.[A-Za-z_][A-Za-z0-9_]*(\[[0-9]+\])*)*): )");
-  std::smatch m;
-  if (std::regex_search(what, m, field))
-    return SceneError(file, place + "." + m[1].str(),
-                      what.substr(static_cast<std::size_t>(m.length(0))));
-  return SceneError(file, place, what);
+  const std::size_t length = fieldPathLength(what);
+  if (length == 0) return SceneError(file, place, what);
+  return SceneError(file, place + "." + what.substr(0, length), what.substr(length + 2));
 }
 
 // How far (m or rad) a coordinate may start outside its limits: rounding, not a modelling choice.
