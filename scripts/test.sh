@@ -21,6 +21,7 @@ run() {  # run BUILD_DIR CMAKE_ARGS...
 if [[ $mode == all || $mode == --plain ]]; then
   echo "== plain (Release) =="
   run build -DCMAKE_BUILD_TYPE=Release
+  scripts/python-venv.sh build  # python3 -c "import linx" in build/venv, as after the demo
 fi
 if [[ $mode == all || $mode == --sanitize ]]; then
   echo "== AddressSanitizer + UBSan =="

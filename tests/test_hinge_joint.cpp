@@ -292,5 +292,19 @@ TEST(Hinge, MotorHoldsTheTargetSpeedWithinItsTorque) {
   }
 }
 
+// The rate of the angle is the rod's angular velocity about the axis (the world does not move),
+// with the angle's sign: it matches the angle's own change over a step to first order.
+TEST(Hinge, RateIsTheAngularVelocityAboutTheAxis) {
+  Pendulum p = makeRodPendulum(1.0, {});
+  for (int i = 0; i < 300; ++i) p.world.step();
+  const double rate = p.world.jointRates(p.hinge)[0];
+  const double w_axis = p.world.body(p.rod).angularVelocity().y();
+  EXPECT_NEAR(std::abs(rate), std::abs(w_axis), 1e-8 * std::abs(w_axis));
+  const double before = p.world.jointCoordinates(p.hinge)[0];
+  p.world.step();
+  const double change = (p.world.jointCoordinates(p.hinge)[0] - before) / 1e-3;
+  EXPECT_NEAR(change, rate, 0.05 * std::abs(rate));
+}
+
 }  // namespace
 }  // namespace linx

@@ -101,6 +101,8 @@ TEST(Slider, MotorDrivesAtTheTargetSpeedAndReadsPositivelyAlongTheAxis) {
   const double s0 = in.world.jointCoordinates(in.slider)[0];
   for (int i = 0; i < 100; ++i) in.world.step();
   EXPECT_NEAR(in.world.jointCoordinates(in.slider)[0] - s0, -0.05, 1e-9);
+  // The rate of the position is the motor's target velocity.
+  EXPECT_NEAR(in.world.jointRates(in.slider)[0], -0.5, 1e-8);
 }
 
 TEST(Slider, RowsStayExactWhenBothBodiesRotateTogether) {

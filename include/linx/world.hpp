@@ -242,6 +242,10 @@ class World {
   /// The joint's coordinates (hinge angle in rad, slider position in m, ...: Joint::coordinates),
   /// zero at creation.
   JointCoordinates jointCoordinates(JointId id) const;
+  /// The rates of the joint's coordinates (m/s or rad/s, in the order of jointCoordinates) at the
+  /// bodies' current velocities: the time derivative of the joint's coordinate function along the
+  /// bodies' motion, by a central difference over +-1e-6 s (good to ~1e-9 of a rate).
+  JointCoordinates jointRates(JointId id) const;
   /// Moves body1's side of the mechanism (body1 and every body joined to it other than through
   /// this joint, rigidly) so that free coordinate `coordinate` of the joint reads `value` (with
   /// its reference) and the joint's other coordinates keep theirs: a model built straight, started

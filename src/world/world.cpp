@@ -7,6 +7,7 @@
 #include "dynamics/energy.hpp"
 #include "joints/local_frames.hpp"
 #include "joints/validation.hpp"
+#include "math/rotation.hpp"
 #include "parallel/parallel_for.hpp"
 #include "step/assembly.hpp"
 #include "step/check.hpp"
@@ -405,6 +406,20 @@ JointCoordinates World::jointCoordinates(JointId id) const {
   for (int i = 0; i < free && i < q.size(); ++i)
     q[i] += j.def().coordinates[static_cast<std::size_t>(i)].reference;
   return q;
+}
+
+JointCoordinates World::jointRates(JointId id) const {
+  const Joint& j = joint(id);
+  constexpr double kDt = 1e-6;  // (s) round-off ~1e-16 / kDt, truncation ~kDt^2 x''' / 6
+  const auto moved = [](BodyState s, double dt) {
+    s.pose.position += s.v * dt;
+    s.pose.orientation = math::integrate(s.pose.orientation, s.w, dt);
+    return s;
+  };
+  const BodyState b1 = bodyState(j.body1()), b2 = bodyState(j.body2());
+  const JointCoordinates ahead = j.coordinates(moved(b1, kDt), moved(b2, kDt));
+  const JointCoordinates behind = j.coordinates(moved(b1, -kDt), moved(b2, -kDt));
+  return (ahead - behind) / (2.0 * kDt);
 }
 
 JointReaction World::jointReaction(JointId id) const {

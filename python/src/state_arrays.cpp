@@ -1,0 +1,351 @@
+#include "state_arrays.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace linx::python {
+
+py::array_t<double> newArray(std::initializer_list<py::ssize_t> shape) {
+  return py::array_t<double>(std::vector<py::ssize_t>(shape));
+}
+
+py::array_t<double> readOnly(py::array_t<double> a) {
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+namespace {
+
+std::string shapeText(const py::array& a) {
+  std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
+  if (shape.size() == 1) return fmt::format("({},)", shape[0]);
+  return fmt::format("({})", fmt::join(shape, ", "));
+}
+
+}  // namespace
+
+py::array_t<double, py::array::c_style> arrayArgument(py::handle value,
+                                                      const std::vector<py::ssize_t>& shape,
+                                                      const std::string& what) {
+  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  const auto typeName = [&] { return std::string(py::str(py::type::of(value).attr("__name__"))); };
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) || value.is_none())
+    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
+  // Real numbers only: a forced cast would drop imaginary parts and read strings.
+  const py::array raw = py::array::ensure(value);
+  if (!raw)
+    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
+  const char kind = raw.dtype().kind();
+  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
+    throw py::type_error(fmt::format("{}: expected real numbers, got an array of {}", what,
+                                     std::string(py::str(raw.dtype()))));
+  Array a = Array::ensure(raw);
+  if (!a)
+    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
+  const bool ok = static_cast<std::size_t>(a.ndim()) == shape.size() &&
+                  std::equal(shape.begin(), shape.end(), a.shape());
+  if (!ok) {
+    const std::string expected = shape.size() == 1 ? fmt::format("({},)", shape[0])
+                                                   : fmt::format("({})", fmt::join(shape, ", "));
+    throw py::value_error(
+        fmt::format("{}: expected shape {}, got {}", what, expected, shapeText(a)));
+  }
+  const double* data = a.data();
+  for (py::ssize_t i = 0; i < a.size(); ++i) {
+    if (std::isfinite(data[i])) continue;
+    std::string index;  // the entry's indices, [i][j][k]
+    for (py::ssize_t rest = i, d = a.ndim() - 1; d >= 0; rest /= a.shape(d), --d)
+      index = fmt::format("[{}]", rest % a.shape(d)) + index;
+    throw py::value_error(fmt::format("{}{}: {} is not finite", what, index, data[i]));
+  }
+  return a;
+}
+
+py::array_t<double, py::array::c_style> matrixArgument(py::handle value, py::ssize_t rows,
+                                                       py::ssize_t columns,
+                                                       const std::string& what) {
+  return columns == 0 ? arrayArgument(value, {rows}, what)
+                      : arrayArgument(value, {rows, columns}, what);
+}
+
+Vec3 vectorArgument(py::handle value, const std::string& what) {
+  const auto a = matrixArgument(value, 3, 0, what);
+  return Vec3(a.data()[0], a.data()[1], a.data()[2]);
+}
+
+Quat quaternionArgument(py::handle value, const std::string& what) {
+  const auto a = matrixArgument(value, 4, 0, what);
+  const double* d = a.data();
+  Quat q(d[0], d[1], d[2], d[3]);  // Eigen's constructor takes w, x, y, z
+  if (!(q.norm() > 1e-12))
+    throw py::value_error(fmt::format("{}: a zero quaternion is no rotation", what));
+  return q.normalized();
+}
+
+int fieldColumns(BodyField field) {
+  return field == BodyField::Orientation ? 4 : 3;
+}
+
+const char* fieldName(BodyField field) {
+  switch (field) {
+    case BodyField::Position:
+      return "positions";
+    case BodyField::Orientation:
+      return "orientations";
+    case BodyField::LinearVelocity:
+      return "linear_velocities";
+    case BodyField::AngularVelocity:
+      return "angular_velocities";
+  }
+  return "";
+}
+
+void readBodies(const World& world, const std::vector<BodyId>& bodies, BodyField field,
+                double* out) {
+  for (const BodyId id : bodies) {
+    const Body& b = world.body(id);
+    switch (field) {
+      case BodyField::Position: {
+        const Vec3& p = b.position();
+        out[0] = p.x(), out[1] = p.y(), out[2] = p.z();
+        out += 3;
+        break;
+      }
+      case BodyField::Orientation: {
+        const Quat& q = b.orientation();
+        out[0] = q.w(), out[1] = q.x(), out[2] = q.y(), out[3] = q.z();
+        out += 4;
+        break;
+      }
+      case BodyField::LinearVelocity: {
+        const Vec3& v = b.linearVelocity();
+        out[0] = v.x(), out[1] = v.y(), out[2] = v.z();
+        out += 3;
+        break;
+      }
+      case BodyField::AngularVelocity: {
+        const Vec3& w = b.angularVelocity();
+        out[0] = w.x(), out[1] = w.y(), out[2] = w.z();
+        out += 3;
+        break;
+      }
+    }
+  }
+}
+
+void writeBodies(World& world, const std::vector<BodyId>& bodies, BodyField field,
+                 const double* rows) {
+  const int c = fieldColumns(field);
+  // Checked in full before anything changes: a refused write leaves the world as it was.
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const double* r = rows + i * static_cast<std::size_t>(c);
+    const Body& b = world.body(bodies[i]);
+    if (field == BodyField::Orientation && !(Quat(r[0], r[1], r[2], r[3]).norm() > 1e-12))
+      throw py::value_error(
+          fmt::format("orientations[{}] ({}): a zero quaternion is no rotation", i, b.name()));
+    const bool velocity = field == BodyField::LinearVelocity || field == BodyField::AngularVelocity;
+    if (velocity && b.isStatic() && Vec3(r[0], r[1], r[2]) != Vec3::Zero())
+      throw py::value_error(
+          fmt::format("{}[{}] ({}): a static body does not move", fieldName(field), i, b.name()));
+  }
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const double* r = rows + i * static_cast<std::size_t>(c);
+    Body& b = world.body(bodies[i]);
+    bool changed = false;
+    switch (field) {
+      case BodyField::Position: {
+        const Vec3 p(r[0], r[1], r[2]);
+        if (p != b.position()) b.setPose(Pose{p, b.orientation()}), changed = true;
+        break;
+      }
+      case BodyField::Orientation: {
+        const Quat q = Quat(r[0], r[1], r[2], r[3]).normalized();
+        if (!q.coeffs().isApprox(b.orientation().coeffs(), 0.0))
+          b.setPose(Pose{b.position(), q}), changed = true;
+        break;
+      }
+      case BodyField::LinearVelocity: {
+        const Vec3 v(r[0], r[1], r[2]);
+        if (v != b.linearVelocity()) b.setLinearVelocity(v), changed = true;
+        break;
+      }
+      case BodyField::AngularVelocity: {
+        const Vec3 w(r[0], r[1], r[2]);
+        if (w != b.angularVelocity()) b.setAngularVelocity(w), changed = true;
+        break;
+      }
+    }
+    if (changed) world.wake(bodies[i]);
+  }
+}
+
+namespace {
+
+using WorldClass = py::class_<PyWorld, std::shared_ptr<PyWorld>>;
+
+void bindBodyField(WorldClass& c, BodyField field, const char* doc) {
+  c.def_property(
+      fieldName(field),
+      [field](PyWorld& self) {
+        const World& w = self.world();
+        const auto n = static_cast<py::ssize_t>(self.bodies().size());
+        auto a = newArray({n, fieldColumns(field)});
+        readBodies(w, self.bodies(), field, a.mutable_data());
+        return readOnly(std::move(a));
+      },
+      [field](PyWorld& self, py::handle value) {
+        World& w = self.world();
+        const auto n = static_cast<py::ssize_t>(self.bodies().size());
+        const auto a = matrixArgument(value, n, fieldColumns(field), fieldName(field));
+        writeBodies(w, self.bodies(), field, a.data());
+      },
+      doc);
+}
+
+/// One entry per joint of a quantity of up to kMaxCoordinates numbers, flattened.
+template <typename PerJoint>
+py::array_t<double> flatCoordinates(PyWorld& self, PerJoint&& perJoint) {
+  const World& w = self.world();
+  std::vector<double> values;
+  for (const JointId id : self.joints()) {
+    const JointCoordinates q = perJoint(w, id);
+    values.insert(values.end(), q.data(), q.data() + q.size());
+  }
+  auto a = newArray({static_cast<py::ssize_t>(values.size())});
+  std::copy(values.begin(), values.end(), a.mutable_data());
+  return readOnly(std::move(a));
+}
+
+}  // namespace
+
+struct ContactArrays {
+  py::array_t<long long> body1, body2;
+  py::array_t<double> point, normal, depth, normal_impulse, friction_impulse;
+};
+
+void bindStateArrays(WorldClass& c) {
+  bindBodyField(c, BodyField::Position,
+                "Centres of mass (m, world frame), an array of bodies x 3 (a copy). Assign an "
+                "array of that shape to move the bodies (they wake).");
+  bindBodyField(c, BodyField::Orientation,
+                "Orientations as unit quaternions (w, x, y, z), bodies x 4 (a copy). Assigned "
+                "quaternions are normalized.");
+  bindBodyField(c, BodyField::LinearVelocity,
+                "Velocities of the centres of mass (m/s, world frame), bodies x 3 (a copy).");
+  bindBodyField(c, BodyField::AngularVelocity,
+                "Angular velocities (rad/s, world frame), bodies x 3 (a copy).");
+
+  c.def_property_readonly(
+      "coordinates",
+      [](PyWorld& self) {
+        return flatCoordinates(self,
+                               [](const World& w, JointId id) { return w.jointCoordinates(id); });
+      },
+      "Every joint's coordinates (hinge angle in rad, slider position in m, ...) one after "
+      "another in joint order, named by coordinate_names (a copy).");
+  c.def_property_readonly(
+      "coordinate_rates",
+      [](PyWorld& self) {
+        return flatCoordinates(self, [](const World& w, JointId id) { return w.jointRates(id); });
+      },
+      "The rates of `coordinates` (m/s or rad/s) at the bodies' velocities (a copy).");
+  c.def_property_readonly(
+      "coordinate_names",
+      [](PyWorld& self) {
+        const World& w = self.world();
+        py::list names;
+        for (const JointId id : self.joints()) {
+          const Joint& j = w.joint(id);
+          const JointTypeInfo* info = findJointType(j.type());
+          const auto n = w.jointCoordinates(id).size();
+          for (Eigen::Index i = 0; i < n; ++i) {
+            const bool named =
+                info != nullptr && static_cast<std::size_t>(n) == info->coordinates.size();
+            names.append(named ? fmt::format("{}.{}", j.name(), info->coordinates[i].name)
+                               : fmt::format("{}.q{}", j.name(), i));
+          }
+        }
+        return names;
+      },
+      "'JOINT.COORDINATE' for each entry of `coordinates` ('pivot.angle', 'rail.position').");
+  c.def_property_readonly(
+      "joint_errors",
+      [](PyWorld& self) {
+        const World& w = self.world();
+        auto a = newArray({static_cast<py::ssize_t>(self.joints().size())});
+        double* out = a.mutable_data();
+        for (const JointId id : self.joints()) *out++ = w.jointError(id);
+        return readOnly(std::move(a));
+      },
+      "Each joint's largest position error (m or rad), in joint order (a copy).");
+  const auto reactions = [](bool torque) {
+    return [torque](PyWorld& self) {
+      const World& w = self.world();
+      auto a = newArray({static_cast<py::ssize_t>(self.joints().size()), 3});
+      double* out = a.mutable_data();
+      for (const JointId id : self.joints()) {
+        const JointReaction r = w.jointReaction(id);
+        const Vec3& v = torque ? r.torque : r.force;
+        out[0] = v.x(), out[1] = v.y(), out[2] = v.z();
+        out += 3;
+      }
+      return readOnly(std::move(a));
+    };
+  };
+  c.def_property_readonly("joint_forces", reactions(false),
+                          "The force (N, world frame) each joint applied to its body1 over the "
+                          "last step, joints x 3 (body2 received the opposite).");
+  c.def_property_readonly("joint_torques", reactions(true),
+                          "The torque (N m, world frame) each joint applied to its body1 over "
+                          "the last step about its anchor, joints x 3.");
+
+  py::class_<ContactArrays>(c, "Contacts",
+                            "The contact points of the last step, one entry per point.")
+      .def_readonly("body1", &ContactArrays::body1, "Index of the first body of each contact.")
+      .def_readonly("body2", &ContactArrays::body2, "Index of the second body (never the world).")
+      .def_readonly("point", &ContactArrays::point, "Points (m, world), midway between surfaces.")
+      .def_readonly("normal", &ContactArrays::normal, "Unit normals from body1 towards body2.")
+      .def_readonly("depth", &ContactArrays::depth,
+                    "Penetration at the step's start (m); negative: a gap.")
+      .def_readonly("normal_impulse", &ContactArrays::normal_impulse,
+                    "Impulse on body2 along the normal (N s); body1 got the opposite.")
+      .def_readonly("friction_impulse", &ContactArrays::friction_impulse,
+                    "Tangential impulse on body2 (N s, world frame).")
+      .def("__len__", [](const ContactArrays& a) { return a.depth.size(); });
+  c.def_property_readonly(
+      "contacts",
+      [](PyWorld& self) {
+        const auto contacts = self.world().contacts();
+        const auto n = static_cast<py::ssize_t>(contacts.size());
+        ContactArrays a{py::array_t<long long>(n),
+                        py::array_t<long long>(n),
+                        newArray({n, 3}),
+                        newArray({n, 3}),
+                        newArray({n}),
+                        newArray({n}),
+                        newArray({n, 3})};
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const Contact& k = contacts[static_cast<std::size_t>(i)];
+          a.body1.mutable_at(i) = k.body1.index;
+          a.body2.mutable_at(i) = k.body2.index;
+          for (int d = 0; d < 3; ++d) {
+            a.point.mutable_at(i, d) = k.point[d];
+            a.normal.mutable_at(i, d) = k.normal[d];
+            a.friction_impulse.mutable_at(i, d) = k.friction_impulse[d];
+          }
+          a.depth.mutable_at(i) = k.depth;
+          a.normal_impulse.mutable_at(i) = k.normal_impulse;
+        }
+        return a;
+      },
+      "The contact points of the last step (linx.World.Contacts: arrays body1, body2, point, "
+      "normal, depth, normal_impulse, friction_impulse).");
+}
+
+}  // namespace linx::python
