@@ -93,6 +93,7 @@ class World:
     orientations: _Array
     linear_velocities: _Array
     angular_velocities: _Array
+    def body_state(self) -> tuple[_Array, _Array, _Array, _Array]: ...
     @property
     def coordinates(self) -> _Array: ...
     @property

@@ -22,9 +22,7 @@ class Batch {
  public:
   Batch(const PyWorld& prototype, int copies, int threads) : threads_(threads) {
     if (copies < 1) throw py::value_error(fmt::format("copies: must be >= 1, got {}", copies));
-    if (threads < 0 || threads > kMaxThreads)
-      throw py::value_error(
-          fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
+    checkThreads(threads);
     const Scene scene = prototype.currentScene();
     const WorldState state = prototype.world().saveState();
     for (int i = 0; i < copies; ++i) {
@@ -34,6 +32,25 @@ class Batch {
       worlds_.push_back(std::move(w));
     }
     faults_.resize(worlds_.size());
+  }
+
+  /// A batch of these worlds (unpickling): they must be copies of one world.
+  Batch(std::vector<std::shared_ptr<PyWorld>> worlds, int threads)
+      : worlds_(std::move(worlds)), threads_(threads) {
+    checkThreads(threads);
+    if (worlds_.empty()) throw py::value_error("linx.Batch: no worlds");
+    for (const auto& w : worlds_) {
+      if (!w) throw py::value_error("linx.Batch: not a world");
+      if (w->bodies().size() != worlds_.front()->bodies().size())
+        throw py::value_error("linx.Batch: the worlds are not copies of one world");
+    }
+    faults_.resize(worlds_.size());
+  }
+
+  static void checkThreads(int threads) {
+    if (threads < 0 || threads > kMaxThreads)
+      throw py::value_error(
+          fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
   }
 
   /// Steps every copy n times in parallel. A copy that faults stops there (the others go on);
@@ -131,6 +148,16 @@ void bindBatch(py::module_& m) {
         py::arg("world"), py::arg("copies"), py::kw_only(), py::arg("threads") = 0,
         "`copies` copies of `world` in its current state. threads: worker threads (0: one per "
         "core); each copy steps on one, so results are those of the world alone, to the bit.");
+  c.def(py::pickle(
+      [](const Batch& b) {
+        for (const auto& w : b.worlds_) w->world();  // none closed or busy
+        return py::make_tuple(b.threads_, b.worlds_);
+      },
+      [](const py::tuple& t) {
+        if (t.size() != 2) throw py::value_error("linx.Batch: not a pickled batch");
+        return std::make_unique<Batch>(t[1].cast<std::vector<std::shared_ptr<PyWorld>>>(),
+                                       t[0].cast<int>());
+      }));
   c.def("step", &Batch::step, py::arg("n") = 1,
         "Steps every copy n times. A copy that faults stops at its fault and the others go on; "
         "then the first fault is raised, and `faults` names every copy's.");

@@ -59,12 +59,29 @@ void editJoint(JointHandle& h, Edit&& edit) {
   wakeJoint(h);
 }
 
+/// A state property of one body, read and written as the World's arrays are (same checks).
+void bindBodyField(py::class_<BodyHandle>& c, const char* name, BodyField field, const char* doc) {
+  c.def_property(
+      name,
+      [field](const BodyHandle& h) {
+        auto a = newArray({fieldColumns(field)});
+        readBodies(h.owner->world(), {h.id}, field, a.mutable_data());
+        return readOnly(std::move(a));
+      },
+      [field, name](const BodyHandle& h, py::handle value) {
+        World& w = h.owner->world();
+        const auto a = matrixArgument(value, fieldColumns(field), 0, name);
+        writeBodies(w, {h.id}, field, a.data(), name);
+      },
+      doc);
+}
+
 void bindBody(py::module_& m) {
-  py::class_<BodyHandle>(m, "Body",
-                         "A body of a World (World.body(), World.bodies). Reading and writing "
-                         "go to the world; a handle of a closed world raises linx.ClosedError.")
-      .def_property_readonly(
-          "world", [](const BodyHandle& h) { return h.owner; }, "Its world.")
+  py::class_<BodyHandle> c(m, "Body",
+                           "A body of a World (World.body(), World.bodies). Reading and writing "
+                           "go to the world; a handle of a closed world raises linx.ClosedError.");
+  c.def_property_readonly(
+       "world", [](const BodyHandle& h) { return h.owner; }, "Its world.")
       .def_property_readonly(
           "index", [](const BodyHandle& h) { return h.owner->world(), h.id.index; },
           "Its row in the world's arrays.")
@@ -87,51 +104,6 @@ void bindBody(py::module_& m) {
       .def_property_readonly(
           "is_kinematic", [](BodyHandle& h) { return bodyOf(h).isKinematic(); },
           "Moves at its own velocity, whatever pushes it.")
-      .def_property(
-          "position", [](BodyHandle& h) { return vec3(bodyOf(h).position()); },
-          [](BodyHandle& h, py::handle p) {
-            Body& b = bodyOf(h);
-            b.setPose(Pose{vectorArgument(p, "position"), b.orientation()});
-            h.owner->world().wake(h.id);
-          },
-          "Centre of mass (m, world frame).")
-      .def_property(
-          "orientation",
-          [](BodyHandle& h) {
-            const Quat& q = bodyOf(h).orientation();
-            auto a = newArray({4});
-            double* d = a.mutable_data();
-            d[0] = q.w(), d[1] = q.x(), d[2] = q.y(), d[3] = q.z();
-            return readOnly(std::move(a));
-          },
-          [](BodyHandle& h, py::handle q) {
-            Body& b = bodyOf(h);
-            b.setPose(Pose{b.position(), quaternionArgument(q, "orientation")});
-            h.owner->world().wake(h.id);
-          },
-          "Unit quaternion (w, x, y, z) of the body frame.")
-      .def_property(
-          "linear_velocity", [](BodyHandle& h) { return vec3(bodyOf(h).linearVelocity()); },
-          [](BodyHandle& h, py::handle v) {
-            const Vec3 value = vectorArgument(v, "linear_velocity");
-            Body& b = bodyOf(h);
-            if (b.isStatic() && value != Vec3::Zero())
-              throw py::value_error(fmt::format("{}: a static body does not move", b.name()));
-            b.setLinearVelocity(value);
-            h.owner->world().wake(h.id);
-          },
-          "Velocity of the centre of mass (m/s, world frame).")
-      .def_property(
-          "angular_velocity", [](BodyHandle& h) { return vec3(bodyOf(h).angularVelocity()); },
-          [](BodyHandle& h, py::handle w) {
-            const Vec3 value = vectorArgument(w, "angular_velocity");
-            Body& b = bodyOf(h);
-            if (b.isStatic() && value != Vec3::Zero())
-              throw py::value_error(fmt::format("{}: a static body does not move", b.name()));
-            b.setAngularVelocity(value);
-            h.owner->world().wake(h.id);
-          },
-          "Angular velocity (rad/s, world frame).")
       .def(
           "apply_force",
           [](BodyHandle& h, py::handle force, py::handle point) {
@@ -176,6 +148,13 @@ void bindBody(py::module_& m) {
         if (h.owner->closed()) return fmt::format("<linx.Body {} of a closed world>", h.id.index);
         return fmt::format("<linx.Body {} '{}'>", h.id.index, bodyOf(h).name());
       });
+  bindBodyField(c, "position", BodyField::Position, "Centre of mass (m, world frame).");
+  bindBodyField(c, "orientation", BodyField::Orientation,
+                "Unit quaternion (w, x, y, z) of the body frame; assigned ones are normalized.");
+  bindBodyField(c, "linear_velocity", BodyField::LinearVelocity,
+                "Velocity of the centre of mass (m/s, world frame).");
+  bindBodyField(c, "angular_velocity", BodyField::AngularVelocity,
+                "Angular velocity (rad/s, world frame).");
 }
 
 void bindJoint(py::module_& m) {

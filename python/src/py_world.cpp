@@ -90,14 +90,16 @@ Id idOf(const std::shared_ptr<PyWorld>& owner, py::handle key, const std::vector
     if (const auto id = find(owner->world(), name)) return *id;
     throw py::key_error(fmt::format("no {} named '{}'", what, name));
   }
-  if (py::isinstance<py::int_>(key) && !py::isinstance<py::bool_>(key)) {
+  // Python ints and whatever stands for one (numpy's integers); not bools.
+  if (PyIndex_Check(key.ptr()) && !py::isinstance<py::bool_>(key)) {
     const long long n = static_cast<long long>(ids.size());
-    long long i = key.cast<long long>();
-    if (i < 0) i += n;
+    const long long given = py::int_(py::reinterpret_borrow<py::object>(key)).cast<long long>();
+    const long long i = given < 0 ? given + n : given;
     owner->world();
     if (i < 0 || i >= n)
-      throw py::index_error(
-          fmt::format("{} index {} out of range ({} {}s)", what, key.cast<long long>(), n, what));
+      throw py::index_error(fmt::format("{} index {} out of range: the world has {} {}", what,
+                                        given, n,
+                                        what == std::string("body") ? "bodies" : "joints"));
     return ids[static_cast<std::size_t>(i)];
   }
   throw py::type_error(fmt::format("a {} is named by an int index, a str name or a handle, not {}",

@@ -106,53 +106,40 @@ const char* fieldName(BodyField field) {
   return "";
 }
 
+int readBody(const Body& b, BodyField field, double* out) {
+  if (field == BodyField::Orientation) {
+    const Quat& q = b.orientation();
+    out[0] = q.w(), out[1] = q.x(), out[2] = q.y(), out[3] = q.z();
+    return 4;
+  }
+  const Vec3& v = field == BodyField::Position         ? b.position()
+                  : field == BodyField::LinearVelocity ? b.linearVelocity()
+                                                       : b.angularVelocity();
+  std::copy_n(v.data(), 3, out);
+  return 3;
+}
+
 void readBodies(const World& world, const std::vector<BodyId>& bodies, BodyField field,
                 double* out) {
-  for (const BodyId id : bodies) {
-    const Body& b = world.body(id);
-    switch (field) {
-      case BodyField::Position: {
-        const Vec3& p = b.position();
-        out[0] = p.x(), out[1] = p.y(), out[2] = p.z();
-        out += 3;
-        break;
-      }
-      case BodyField::Orientation: {
-        const Quat& q = b.orientation();
-        out[0] = q.w(), out[1] = q.x(), out[2] = q.y(), out[3] = q.z();
-        out += 4;
-        break;
-      }
-      case BodyField::LinearVelocity: {
-        const Vec3& v = b.linearVelocity();
-        out[0] = v.x(), out[1] = v.y(), out[2] = v.z();
-        out += 3;
-        break;
-      }
-      case BodyField::AngularVelocity: {
-        const Vec3& w = b.angularVelocity();
-        out[0] = w.x(), out[1] = w.y(), out[2] = w.z();
-        out += 3;
-        break;
-      }
-    }
-  }
+  for (const BodyId id : bodies) out += readBody(world.body(id), field, out);
 }
 
 void writeBodies(World& world, const std::vector<BodyId>& bodies, BodyField field,
-                 const double* rows) {
+                 const double* rows, const char* what) {
+  const auto named = [&](std::size_t i, const Body& b) {
+    return what != nullptr ? fmt::format("{} ({})", what, b.name())
+                           : fmt::format("{}[{}] ({})", fieldName(field), i, b.name());
+  };
   const int c = fieldColumns(field);
   // Checked in full before anything changes: a refused write leaves the world as it was.
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const double* r = rows + i * static_cast<std::size_t>(c);
     const Body& b = world.body(bodies[i]);
     if (field == BodyField::Orientation && !(Quat(r[0], r[1], r[2], r[3]).norm() > 1e-12))
-      throw py::value_error(
-          fmt::format("orientations[{}] ({}): a zero quaternion is no rotation", i, b.name()));
+      throw py::value_error(fmt::format("{}: a zero quaternion is no rotation", named(i, b)));
     const bool velocity = field == BodyField::LinearVelocity || field == BodyField::AngularVelocity;
     if (velocity && b.isStatic() && Vec3(r[0], r[1], r[2]) != Vec3::Zero())
-      throw py::value_error(
-          fmt::format("{}[{}] ({}): a static body does not move", fieldName(field), i, b.name()));
+      throw py::value_error(fmt::format("{}: a static body does not move", named(i, b)));
   }
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const double* r = rows + i * static_cast<std::size_t>(c);
@@ -241,6 +228,27 @@ void bindStateArrays(WorldClass& c) {
   bindBodyField(c, BodyField::AngularVelocity,
                 "Angular velocities (rad/s, world frame), bodies x 3 (a copy).");
 
+  c.def(
+      "body_state",
+      [](PyWorld& self) {
+        const World& w = self.world();
+        const auto n = static_cast<py::ssize_t>(self.bodies().size());
+        auto p = newArray({n, 3}), q = newArray({n, 4}), v = newArray({n, 3}), s = newArray({n, 3});
+        double *po = p.mutable_data(), *qo = q.mutable_data(), *vo = v.mutable_data(),
+               *so = s.mutable_data();
+        for (const BodyId id : self.bodies()) {  // one pass over the bodies for all four
+          const Body& b = w.body(id);
+          po += readBody(b, BodyField::Position, po);
+          qo += readBody(b, BodyField::Orientation, qo);
+          vo += readBody(b, BodyField::LinearVelocity, vo);
+          so += readBody(b, BodyField::AngularVelocity, so);
+        }
+        return py::make_tuple(readOnly(std::move(p)), readOnly(std::move(q)),
+                              readOnly(std::move(v)), readOnly(std::move(s)));
+      },
+      "(positions, orientations, linear_velocities, angular_velocities) in one call: the four "
+      "arrays of the properties, read in one pass over the bodies (the fastest way to read the "
+      "whole state of many bodies).");
   c.def_property_readonly(
       "coordinates",
       [](PyWorld& self) {

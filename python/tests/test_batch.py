@@ -69,3 +69,14 @@ def test_bad_arguments():
     batch[0].close()
     with pytest.raises(linx.ClosedError):
         batch.step()
+
+
+def test_a_batch_pickles_and_goes_on_identically(examples):
+    import pickle
+    batch = linx.Batch(linx.load(examples / "double_pendulum.json"), 3)
+    batch.step(20)
+    again = pickle.loads(pickle.dumps(batch))
+    batch.step(50)
+    again.step(50)
+    assert np.array_equal(batch.positions, again.positions)
+    assert len(again) == 3 and again[0] is not batch[0]

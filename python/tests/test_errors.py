@@ -234,3 +234,47 @@ def test_exceptions_pickle_with_their_message():
     except linx.SceneError as e:
         again = pickle.loads(pickle.dumps(e))
         assert type(again) is linx.SceneError and str(again) == str(e)
+
+
+def test_numpy_integers_name_bodies(examples):
+    world = linx.load(examples / "double_pendulum.json")
+    assert world.body(np.int64(1)) == world.body(1)
+    assert world.joint(np.int32(-1)) == world.joint(world.joint_count - 1)
+    with pytest.raises(IndexError, match="2 bodies"):
+        world.body(np.int64(2))
+
+
+ODD_ARGUMENTS = [None, 0, -1, 2**70, 1e308, float("nan"), "x", b"x", [], [[]], (1, 2, 3),
+                 np.zeros(0), np.zeros((1000, 3)), np.ones((1, 3, 1)), object(), {"a": 1}, True]
+
+
+def test_no_argument_crashes_the_interpreter(examples):
+    # Every method and setter, with every odd argument: a Python exception at worst.
+    world = linx.load(examples / "double_pendulum.json")
+    batch = linx.Batch(world, 2)
+    targets = [world, world.body(0), world.joint(0), batch]
+    skip = {"close", "record", "save", "step"}  # files and long runs: tested on their own
+    calls = 0
+    for target in targets:
+        for name in dir(target):
+            if name.startswith("_") or name in skip:
+                continue
+            attribute = getattr(type(target), name, None)
+            for arg in ODD_ARGUMENTS:
+                try:
+                    if isinstance(attribute, property):
+                        setattr(target, name, arg)
+                    elif callable(getattr(target, name)):
+                        getattr(target, name)(arg)
+                except Exception:  # noqa: BLE001 - any Python exception is fine
+                    pass
+                calls += 1
+    for arg in ODD_ARGUMENTS:
+        for f in (world.step, batch.step, linx.load, linx.loads, world.restore_state):
+            try:
+                f(arg)
+            except Exception:  # noqa: BLE001
+                pass
+    assert calls > 500
+    world.step()  # still a working world
+    assert world.step_count >= 1
