@@ -11,83 +11,6 @@ namespace py = pybind11;
 
 namespace linx::python {
 
-py::array_t<double> newArray(std::initializer_list<py::ssize_t> shape) {
-  return py::array_t<double>(std::vector<py::ssize_t>(shape));
-}
-
-py::array_t<double> readOnly(py::array_t<double> a) {
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return a;
-}
-
-namespace {
-
-std::string shapeText(const py::array& a) {
-  std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
-  if (shape.size() == 1) return fmt::format("({},)", shape[0]);
-  return fmt::format("({})", fmt::join(shape, ", "));
-}
-
-}  // namespace
-
-py::array_t<double, py::array::c_style> arrayArgument(py::handle value,
-                                                      const std::vector<py::ssize_t>& shape,
-                                                      const std::string& what) {
-  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-  const auto typeName = [&] { return std::string(py::str(py::type::of(value).attr("__name__"))); };
-  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) || value.is_none())
-    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
-  // Real numbers only: a forced cast would drop imaginary parts and read strings.
-  const py::array raw = py::array::ensure(value);
-  if (!raw)
-    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
-  const char kind = raw.dtype().kind();
-  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
-    throw py::type_error(fmt::format("{}: expected real numbers, got an array of {}", what,
-                                     std::string(py::str(raw.dtype()))));
-  Array a = Array::ensure(raw);
-  if (!a)
-    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
-  const bool ok = static_cast<std::size_t>(a.ndim()) == shape.size() &&
-                  std::equal(shape.begin(), shape.end(), a.shape());
-  if (!ok) {
-    const std::string expected = shape.size() == 1 ? fmt::format("({},)", shape[0])
-                                                   : fmt::format("({})", fmt::join(shape, ", "));
-    throw py::value_error(
-        fmt::format("{}: expected shape {}, got {}", what, expected, shapeText(a)));
-  }
-  const double* data = a.data();
-  for (py::ssize_t i = 0; i < a.size(); ++i) {
-    if (std::isfinite(data[i])) continue;
-    std::string index;  // the entry's indices, [i][j][k]
-    for (py::ssize_t rest = i, d = a.ndim() - 1; d >= 0; rest /= a.shape(d), --d)
-      index = fmt::format("[{}]", rest % a.shape(d)) + index;
-    throw py::value_error(fmt::format("{}{}: {} is not finite", what, index, data[i]));
-  }
-  return a;
-}
-
-py::array_t<double, py::array::c_style> matrixArgument(py::handle value, py::ssize_t rows,
-                                                       py::ssize_t columns,
-                                                       const std::string& what) {
-  return columns == 0 ? arrayArgument(value, {rows}, what)
-                      : arrayArgument(value, {rows, columns}, what);
-}
-
-Vec3 vectorArgument(py::handle value, const std::string& what) {
-  const auto a = matrixArgument(value, 3, 0, what);
-  return Vec3(a.data()[0], a.data()[1], a.data()[2]);
-}
-
-Quat quaternionArgument(py::handle value, const std::string& what) {
-  const auto a = matrixArgument(value, 4, 0, what);
-  const double* d = a.data();
-  Quat q(d[0], d[1], d[2], d[3]);  // Eigen's constructor takes w, x, y, z
-  if (!(q.norm() > 1e-12))
-    throw py::value_error(fmt::format("{}: a zero quaternion is no rotation", what));
-  return q.normalized();
-}
-
 int fieldColumns(BodyField field) {
   return field == BodyField::Orientation ? 4 : 3;
 }
@@ -211,11 +134,6 @@ py::array_t<double> flatCoordinates(PyWorld& self, PerJoint&& perJoint) {
 
 }  // namespace
 
-struct ContactArrays {
-  py::array_t<long long> body1, body2;
-  py::array_t<double> point, normal, depth, normal_impulse, friction_impulse;
-};
-
 void bindStateArrays(WorldClass& c) {
   bindBodyField(c, BodyField::Position,
                 "Centres of mass (m, world frame), an array of bodies x 3 (a copy). Assign an "
@@ -313,47 +231,7 @@ void bindStateArrays(WorldClass& c) {
                           "The torque (N m, world frame) each joint applied to its body1 over "
                           "the last step about its anchor, joints x 3.");
 
-  py::class_<ContactArrays>(c, "Contacts",
-                            "The contact points of the last step, one entry per point.")
-      .def_readonly("body1", &ContactArrays::body1, "Index of the first body of each contact.")
-      .def_readonly("body2", &ContactArrays::body2, "Index of the second body (never the world).")
-      .def_readonly("point", &ContactArrays::point, "Points (m, world), midway between surfaces.")
-      .def_readonly("normal", &ContactArrays::normal, "Unit normals from body1 towards body2.")
-      .def_readonly("depth", &ContactArrays::depth,
-                    "Penetration at the step's start (m); negative: a gap.")
-      .def_readonly("normal_impulse", &ContactArrays::normal_impulse,
-                    "Impulse on body2 along the normal (N s); body1 got the opposite.")
-      .def_readonly("friction_impulse", &ContactArrays::friction_impulse,
-                    "Tangential impulse on body2 (N s, world frame).")
-      .def("__len__", [](const ContactArrays& a) { return a.depth.size(); });
-  c.def_property_readonly(
-      "contacts",
-      [](PyWorld& self) {
-        const auto contacts = self.world().contacts();
-        const auto n = static_cast<py::ssize_t>(contacts.size());
-        ContactArrays a{py::array_t<long long>(n),
-                        py::array_t<long long>(n),
-                        newArray({n, 3}),
-                        newArray({n, 3}),
-                        newArray({n}),
-                        newArray({n}),
-                        newArray({n, 3})};
-        for (py::ssize_t i = 0; i < n; ++i) {
-          const Contact& k = contacts[static_cast<std::size_t>(i)];
-          a.body1.mutable_at(i) = k.body1.index;
-          a.body2.mutable_at(i) = k.body2.index;
-          for (int d = 0; d < 3; ++d) {
-            a.point.mutable_at(i, d) = k.point[d];
-            a.normal.mutable_at(i, d) = k.normal[d];
-            a.friction_impulse.mutable_at(i, d) = k.friction_impulse[d];
-          }
-          a.depth.mutable_at(i) = k.depth;
-          a.normal_impulse.mutable_at(i) = k.normal_impulse;
-        }
-        return a;
-      },
-      "The contact points of the last step (linx.World.Contacts: arrays body1, body2, point, "
-      "normal, depth, normal_impulse, friction_impulse).");
+  bindContactArrays(c);
 }
 
 }  // namespace linx::python

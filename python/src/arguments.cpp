@@ -1,0 +1,91 @@
+#include "arguments.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace linx::python {
+
+py::array_t<double> newArray(std::initializer_list<py::ssize_t> shape) {
+  return py::array_t<double>(std::vector<py::ssize_t>(shape));
+}
+
+py::array_t<double> readOnly(py::array_t<double> a) {
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+namespace {
+
+std::string shapeText(const py::array& a) {
+  std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
+  if (shape.size() == 1) return fmt::format("({},)", shape[0]);
+  return fmt::format("({})", fmt::join(shape, ", "));
+}
+
+}  // namespace
+
+py::array_t<double, py::array::c_style> arrayArgument(py::handle value,
+                                                      const std::vector<py::ssize_t>& shape,
+                                                      const std::string& what) {
+  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  const auto typeName = [&] { return std::string(py::str(py::type::of(value).attr("__name__"))); };
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) || value.is_none())
+    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
+  // Real numbers only: a forced cast would drop imaginary parts and read strings.
+  const py::array raw = py::array::ensure(value);
+  if (!raw)
+    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
+  const char kind = raw.dtype().kind();
+  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
+    throw py::type_error(fmt::format("{}: expected real numbers, got an array of {}", what,
+                                     std::string(py::str(raw.dtype()))));
+  Array a = Array::ensure(raw);
+  if (!a)
+    throw py::type_error(fmt::format("{}: expected an array of numbers, got {}", what, typeName()));
+  const bool ok = static_cast<std::size_t>(a.ndim()) == shape.size() &&
+                  std::equal(shape.begin(), shape.end(), a.shape());
+  if (!ok) {
+    const std::string expected = shape.size() == 1 ? fmt::format("({},)", shape[0])
+                                                   : fmt::format("({})", fmt::join(shape, ", "));
+    throw py::value_error(
+        fmt::format("{}: expected shape {}, got {}", what, expected, shapeText(a)));
+  }
+  const double* data = a.data();
+  for (py::ssize_t i = 0; i < a.size(); ++i) {
+    if (std::isfinite(data[i])) continue;
+    std::string index;  // the entry's indices, [i][j][k]
+    for (py::ssize_t rest = i, d = a.ndim() - 1; d >= 0; rest /= a.shape(d), --d)
+      index = fmt::format("[{}]", rest % a.shape(d)) + index;
+    throw py::value_error(fmt::format("{}{}: {} is not finite", what, index, data[i]));
+  }
+  return a;
+}
+
+py::array_t<double, py::array::c_style> matrixArgument(py::handle value, py::ssize_t rows,
+                                                       py::ssize_t columns,
+                                                       const std::string& what) {
+  return columns == 0 ? arrayArgument(value, {rows}, what)
+                      : arrayArgument(value, {rows, columns}, what);
+}
+
+Vec3 vectorArgument(py::handle value, const std::string& what) {
+  const auto a = matrixArgument(value, 3, 0, what);
+  return Vec3(a.data()[0], a.data()[1], a.data()[2]);
+}
+
+Quat quaternionArgument(py::handle value, const std::string& what) {
+  const auto a = matrixArgument(value, 4, 0, what);
+  const double* d = a.data();
+  Quat q(d[0], d[1], d[2], d[3]);  // Eigen's constructor takes w, x, y, z
+  if (!(q.norm() > 1e-12))
+    throw py::value_error(fmt::format("{}: a zero quaternion is no rotation", what));
+  return q.normalized();
+}
+
+}  // namespace linx::python
