@@ -12,5 +12,6 @@ void bindHandles(pybind11::module_& m, pybind11::class_<PyWorld, std::shared_ptr
 void bindRecording(pybind11::module_& m,
                    pybind11::class_<PyWorld, std::shared_ptr<PyWorld>>& world);
 void bindBatch(pybind11::module_& m);
+void bindCallCosts(pybind11::module_& m);
 
 }  // namespace linx::python

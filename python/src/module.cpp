@@ -9,4 +9,5 @@ PYBIND11_MODULE(_linx, m) {
   linx::python::bindErrors(m);
   linx::python::bindWorld(m);
   linx::python::bindBatch(m);
+  linx::python::bindCallCosts(m);
 }

@@ -10,6 +10,13 @@ import pytest
 import linx
 
 
+@pytest.fixture(autouse=True)
+def programs_without_preload(monkeypatch):
+    # Under the sanitizers ctest preloads their runtimes into python3; the linx program links
+    # them itself, and POV-Ray (which it runs) must not get them.
+    monkeypatch.delenv("LD_PRELOAD", raising=False)
+
+
 def test_recording_matches_linx_run(examples, linx_program, tmp_path):
     import subprocess
     subprocess.run([linx_program, "run", str(examples / "double_pendulum.json"), "--out",
