@@ -110,3 +110,16 @@ def test_damaged_checkpoint_file_raises_checkpoint_error(examples, tmp_path):
     path.write_bytes(bytes(data))
     with pytest.raises(linx.CheckpointError, match="p.lxc"):
         linx.load(path)
+
+
+def test_every_example_and_robot_pickles_and_continues_bit_for_bit(examples):
+    models = sorted(examples.glob("*.json")) + sorted((examples / "robots").glob("*"))
+    assert len(models) > 30
+    for model in models:
+        world = linx.load(model)
+        world.step(5)
+        clone = pickle.loads(pickle.dumps(world))
+        world.step(5)
+        clone.step(5)
+        assert np.array_equal(world.positions, clone.positions), model.name
+        assert np.array_equal(world.angular_velocities, clone.angular_velocities), model.name
