@@ -1,5 +1,7 @@
 #include "arguments.hpp"
 
+#include <linx/world.hpp>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -72,6 +74,12 @@ py::array_t<double, py::array::c_style> matrixArgument(py::handle value, py::ssi
                                                        const std::string& what) {
   return columns == 0 ? arrayArgument(value, {rows}, what)
                       : arrayArgument(value, {rows, columns}, what);
+}
+
+void checkThreads(int threads) {
+  if (threads < 0 || threads > kMaxThreads)
+    throw py::value_error(
+        fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
 }
 
 Vec3 vectorArgument(py::handle value, const std::string& what) {

@@ -26,6 +26,8 @@ pybind11::array_t<double, pybind11::array::c_style> matrixArgument(pybind11::han
 /// `value` as a float64 array of exactly `shape`, checked as matrixArgument does.
 pybind11::array_t<double, pybind11::array::c_style> arrayArgument(
     pybind11::handle value, const std::vector<pybind11::ssize_t>& shape, const std::string& what);
+/// ValueError unless `threads` is a count of worker threads a world takes ([0, kMaxThreads]).
+void checkThreads(int threads);
 /// A 3-vector argument (a force, a position).
 Vec3 vectorArgument(pybind11::handle value, const std::string& what);
 /// A quaternion argument (w, x, y, z), normalized; ValueError for a zero one.

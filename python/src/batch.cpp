@@ -47,12 +47,6 @@ class Batch {
     faults_.resize(worlds_.size());
   }
 
-  static void checkThreads(int threads) {
-    if (threads < 0 || threads > kMaxThreads)
-      throw py::value_error(
-          fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
-  }
-
   /// Steps every copy n times in parallel. A copy that faults stops there (the others go on);
   /// its message is kept in faults and the first copy's fault is raised once all are done.
   void step(long long n) {

@@ -175,9 +175,7 @@ void bindWorld(py::module_& m) {
   c.def_property(
       "threads", [](PyWorld& self) { return self.world().settings().threads; },
       [](PyWorld& self, int threads) {
-        if (threads < 0 || threads > kMaxThreads)
-          throw py::value_error(
-              fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
+        checkThreads(threads);
         self.world().settings().threads = threads;
       },
       "Worker threads of a step (0: one per core); results are the same to the bit.");
