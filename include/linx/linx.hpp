@@ -5,6 +5,7 @@
 #include <linx/checkpoint.hpp>
 #include <linx/contact.hpp>
 #include <linx/import.hpp>
+#include <linx/integrator.hpp>
 #include <linx/joint.hpp>
 #include <linx/joint_defs.hpp>
 #include <linx/loads.hpp>

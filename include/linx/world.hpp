@@ -4,6 +4,7 @@
 #include <linx/body.hpp>
 #include <linx/contact.hpp>
 #include <linx/joint.hpp>
+#include <linx/integrator.hpp>
 #include <linx/joint_defs.hpp>
 #include <linx/loads.hpp>
 #include <linx/solver.hpp>
@@ -114,6 +115,8 @@ struct WorldSettings {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< (m/s^2), world frame
   double timestep = 1e-3;                ///< (s)
   SolverSettings solver{};
+  /// The time integrator of islands without contacts (docs/integrators.md).
+  IntegratorSettings integrator{};
   ContactSettings contact{};
   SleepSettings sleep{};
   FaultSettings faults{};

@@ -181,8 +181,9 @@ class Reader {
     const Node node{root, ""};
     if (!root.is_object())
       fail("", fmt::format("a scene must be a JSON object, got {}", describe(root)));
-    allowOnly(node, {"gravity", "timestep", "duration", "threads", "solver", "contact", "sleep",
-                     "faults", "bodies", "joints", "springs", "forces", "torques", "view"});
+    allowOnly(node,
+              {"gravity", "timestep", "duration", "threads", "solver", "integrator", "contact",
+               "sleep", "faults", "bodies", "joints", "springs", "forces", "torques", "view"});
 
     Scene scene;
     scene.file = file_;
@@ -196,6 +197,7 @@ class Reader {
              fmt::format("must be at most {}, got {}", kMaxThreads, scene.settings.threads));
     }
     if (auto n = get(node, "solver")) scene.settings.solver = solver(*n);
+    if (auto n = get(node, "integrator")) scene.settings.integrator = integrator(*n);
     if (auto n = get(node, "contact")) scene.settings.contact = contact(*n);
     if (auto n = get(node, "sleep")) scene.settings.sleep = sleep(*n);
     if (auto n = get(node, "faults")) scene.settings.faults = faults(*n);
@@ -434,6 +436,37 @@ class Reader {
   }
 
   // --- Sections --------------------------------------------------------------------------------
+
+  // "integrator": "step" | "accurate", or {"type": ..., "tolerance": ...}.
+  IntegratorSettings integrator(const Node& n) const {
+    IntegratorSettings s;
+    const auto type = [&](const Node& t) {
+      const std::string name = string(t);
+      if (name == "step") {
+        s.type = IntegratorType::Step;
+      } else if (name == "accurate") {
+        s.type = IntegratorType::Accurate;
+      } else {
+        fail(t.path,
+             fmt::format("unknown integrator '{}' (expected \"step\" or \"accurate\")", name));
+      }
+    };
+    if (n.value.is_string()) {
+      type(n);
+      return s;
+    }
+    if (!n.value.is_object())
+      fail(n.path,
+           fmt::format("expected \"step\", \"accurate\" or an object, got {}", describe(n.value)));
+    allowOnly(n, {"type", "tolerance"});
+    if (auto t = get(n, "type")) type(*t);
+    if (auto v = get(n, "tolerance")) {
+      s.tolerance = positive(*v);
+      if (s.tolerance > 1e-2 || s.tolerance < 1e-14)
+        fail(v->path, fmt::format("must be between 1e-14 and 1e-2, got {}", s.tolerance));
+    }
+    return s;
+  }
 
   SolverSettings solver(const Node& n) const {
     allowOnly(n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",

@@ -197,6 +197,13 @@ class Writer {
     root["duration"] = number(scene_.duration, "duration");
     putIfChanged(root, "threads", s.threads, WorldSettings{}.threads);
     putSection(root, "solver", solver(s.solver));
+    if (s.integrator.tolerance != IntegratorSettings{}.tolerance) {
+      root["integrator"] =
+          json{{"type", std::string(integratorTypeName(s.integrator.type))},
+               {"tolerance", number(s.integrator.tolerance, "integrator.tolerance")}};
+    } else if (s.integrator.type != IntegratorSettings{}.type) {
+      root["integrator"] = std::string(integratorTypeName(s.integrator.type));
+    }
     putSection(root, "contact", contact(s.contact));
     putSection(root, "sleep", sleep(s.sleep));
     putSection(root, "faults", faults(s.faults));

@@ -112,6 +112,42 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
   return island_awake;
 }
 
+/// accurate: with integrator "accurate", the awake islands of joints alone (no contact, limit,
+/// motor or drive rows) move over the pass by the accurate integrator from their state at its
+/// start (the velocities before the velocities stage), and their joints' impulses become the
+/// rows'. Returns the awake islands left to the solve (empty: all).
+std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& state,
+                                                  std::span<const std::uint8_t> island_awake,
+                                                  double h) {
+  state.accurate_report = AccurateReport{};
+  std::vector<std::uint8_t>& accurate = state.accurate_bodies;
+  if (scene.settings.integrator.type != IntegratorType::Accurate ||
+      state.accurate.select(scene.bodies, state.rows.rows, state.rows.joint_rows, state.islands,
+                            island_awake, scene.settings.solver, accurate) == 0) {
+    accurate.assign(scene.bodies.size(), 0);
+    return island_awake;
+  }
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    if (!accurate[i]) continue;
+    scene.bodies[i].setLinearVelocity(state.start_velocities[i].v);
+    scene.bodies[i].setAngularVelocity(state.start_velocities[i].w);
+  }
+  state.accurate_report =
+      state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, scene.time, h,
+                             scene.threads, state.rows.rows, state.rows.lambda);
+  std::vector<std::uint8_t>& stepped = state.island_stepped;
+  stepped.assign(static_cast<std::size_t>(state.islands.count()), 1);
+  if (!island_awake.empty()) std::copy(island_awake.begin(), island_awake.end(), stepped.begin());
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    if (accurate[i])
+      stepped[static_cast<std::size_t>(state.islands.islandOf(static_cast<int>(i)))] = 0;
+  return stepped;
+}
+
+bool accurate(const State& state, std::size_t body) {
+  return body < state.accurate_bodies.size() && state.accurate_bodies[body] != 0;
+}
+
 /// solve: gathers the compact solver bodies (u*), solves every awake island with the world's
 /// solver; the solver bodies then hold u+ and the rows' impulses lambda. Sleeping islands keep
 /// the impulses they rest on, for when they wake.
@@ -204,7 +240,7 @@ SolverReport substeps(const Scene& scene, State& state, std::span<const std::uin
   const std::span<solver::SoftSolver::Body> bodies = solver.bodies();
   state.moving.resize(scene.bodies.size());
   for (std::size_t i = 0; i < scene.bodies.size(); ++i)
-    state.moving[i] = scene.bodies[i].isDynamic() && awake(state, i);
+    state.moving[i] = scene.bodies[i].isDynamic() && awake(state, i) && !accurate(state, i);
   const auto moving = [&](std::size_t i) { return state.moving[i] != 0; };
   SubstepJoints& joints = state.substep_joints;
   SolverReport joint_report;
@@ -285,7 +321,7 @@ void storeImpulses(const Scene& scene, State& state, double h, bool soft) {
 void integratePositions(const Scene& scene, const State& state, double h) {
   eachBody(scene, [&](std::size_t i) {
     Body& b = scene.bodies[i];
-    if (b.isStatic() || !awake(state, i)) return;
+    if (b.isStatic() || !awake(state, i) || accurate(state, i)) return;
     b.setLinearVelocity(state.solver_bodies[i].v);
     b.setAngularVelocity(state.solver_bodies[i].w);
     dynamics::integratePosition(b, h);
@@ -293,8 +329,9 @@ void integratePositions(const Scene& scene, const State& state, double h) {
 }
 
 /// stabilize: Newton iterations remove the joints' position errors (step/stabilization), as many as
-/// `post_stabilization` (or `projection_iterations` with `projection` on); sleeping bodies are held
-/// where they are. `time`: the bodies' (the pass's end).
+/// `post_stabilization` (or `projection_iterations` with `projection` on); sleeping bodies, and
+/// those the accurate integrator moved, are held where they are. `time`: the bodies' (the pass's
+/// end).
 void stabilize(const Scene& scene, State& state, double time) {
   const SolverSettings& settings = scene.settings.solver;
   const int iterations = settings.projection
@@ -303,7 +340,8 @@ void stabilize(const Scene& scene, State& state, double time) {
   if (iterations > 0 && !scene.joints.empty()) {
     std::vector<std::uint8_t>& frozen = state.may_sleep;  // scratch until the sleep stage
     frozen.resize(scene.bodies.size());
-    for (std::size_t i = 0; i < scene.bodies.size(); ++i) frozen[i] = !awake(state, i);
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+      frozen[i] = !awake(state, i) || accurate(state, i);
     state.stabilization.run(scene.joints, scene.bodies, settings, iterations, frozen,
                             state.geometric_stiffness, time);
   }
@@ -359,7 +397,8 @@ SolverReport pass(const Scene& scene, State& state, double h) {
   integrateVelocities(scene, state, h);
   collide(scene, state, h, scene.settings.contact);
   prepareRows(scene, state, h, h, true, true);
-  const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, h);
+  const std::span<const std::uint8_t> island_awake =
+      integrateAccurately(scene, state, buildIslands(scene, state, h), h);
   const SolverReport report = solve(scene, state, island_awake, h);
   storeImpulses(scene, state, h, false);
   integratePositions(scene, state, h);
@@ -378,7 +417,8 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   collide(scene, state, dt, contacts);
   keepStartVelocities(scene.bodies, state.start_velocities);
   prepareRows(scene, state, dt / n, dt, false, false);
-  const std::span<const std::uint8_t> island_awake = buildIslands(scene, state, 0.0);
+  const std::span<const std::uint8_t> island_awake =
+      integrateAccurately(scene, state, buildIslands(scene, state, 0.0), dt);
   if (scene.settings.solver.post_stabilization > 0) state.stabilization.beginStep(scene.bodies);
   const SolverReport report = substeps(scene, state, island_awake, dt);
   storeImpulses(scene, state, dt, true);

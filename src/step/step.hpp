@@ -9,6 +9,8 @@
 //                                                    step/assembly, step/joint_warm_start
 //   islands     bodies linked by the rows; an island with an awake body wakes entirely
 //                                                    step/islands, step/sleep
+//   accurate    with integrator "accurate": islands of joints alone move over the pass by the
+//               accurate integrator; the stages below leave them     step/accurate_integrator
 //   solve       each awake island's boxed LCP: impulses lambda, u+ = u* + M^-1 J^T lambda
 //                                                    step/island_solver, solver/
 //   store       impulses kept for the next pass's warm start and the contacts() report
@@ -34,6 +36,7 @@
 
 #include "solver/problem.hpp"
 #include "solver/soft_solver.hpp"
+#include "step/accurate_integrator.hpp"
 #include "step/assembly.hpp"
 #include "step/contact_stage.hpp"
 #include "step/geometric_stiffness.hpp"
@@ -96,6 +99,10 @@ struct State {
   std::vector<double> last_joint_impulses;  // without warm start: the geometric stiffness's
   solver::SoftSolver soft;
   std::vector<solver::SoftSolver::Bounce> bounces;
+  AccurateIntegrator accurate;
+  std::vector<std::uint8_t> accurate_bodies;  // moved by `accurate` this pass (one per body)
+  std::vector<std::uint8_t> island_stepped;   // awake islands the step solves
+  AccurateReport accurate_report;
   std::vector<int> neighbours;
 
   /// Reads or writes what carries from one step to the next (World::saveState; carried_state.cpp):

@@ -1,0 +1,27 @@
+// Which time integrator moves the bodies of a world's islands (docs/integrators.md).
+#pragma once
+
+#include <string_view>
+
+namespace linx {
+
+enum class IntegratorType {
+  /// The velocity-level step of every island (docs/solver.md): first order, for contacts.
+  Step,
+  /// Islands whose constraints are joints only (no contact, limit, motor or drive rows) move by an
+  /// error-controlled Runge-Kutta method of order 5 on the index-1 equations of motion, projected
+  /// onto the joints' manifold after each of its steps; the others take the step.
+  Accurate,
+};
+
+struct IntegratorSettings {
+  IntegratorType type = IntegratorType::Step;
+  /// The accurate integrator's local error bound, per step of it, on each position (m), rotation
+  /// (rad) and velocity (m/s, rad/s), relative to the larger of 1 and the value's size: a frame
+  /// that would err more is split into smaller steps.
+  double tolerance = 1e-9;
+};
+
+std::string_view integratorTypeName(IntegratorType type);
+
+}  // namespace linx

@@ -1,0 +1,253 @@
+#include "step/accurate_integrator.hpp"
+
+#include "dynamics/dormand_prince.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace linx::step {
+
+namespace dp = dynamics::dormand_prince;
+
+namespace {
+
+/// Whether a row is a coordinate force (a motor row whose bounds pin its impulse).
+bool isForceRow(const Row& r) {
+  return r.kind == RowKind::Motor && r.lo == r.hi;
+}
+
+/// The first dynamic body's island of a row, -1 for none; `kinematic` tells whether the row holds
+/// a kinematic body.
+int islandOf(const Row& r, std::span<const Body> bodies, const Islands& islands, bool& kinematic) {
+  int island = -1;
+  kinematic = false;
+  r.forEachBlock([&](int body, const Vec6&) {
+    if (body < 0) return;
+    const Body& b = bodies[static_cast<std::size_t>(body)];
+    if (b.isKinematic()) kinematic = true;
+    if (island < 0 && b.isDynamic()) island = islands.islandOf(body);
+  });
+  return island;
+}
+
+/// dq/dt = 1/2 (0, w) q, q as (w, x, y, z).
+Eigen::Vector4d quaternionRate(const Vec3& w, const Eigen::Vector4d& q) {
+  const Vec3 qv = q.tail<3>();
+  Eigen::Vector4d d;
+  d[0] = -0.5 * w.dot(qv);
+  d.tail<3>() = 0.5 * (q[0] * w + w.cross(qv));
+  return d;
+}
+
+}  // namespace
+
+int AccurateIntegrator::select(std::span<const Body> bodies, std::span<const Row> rows,
+                               std::size_t joint_rows, const Islands& islands,
+                               std::span<const std::uint8_t> island_awake,
+                               const SolverSettings& settings,
+                               std::vector<std::uint8_t>& accurate) {
+  island_ok_.assign(static_cast<std::size_t>(islands.count()), 1);
+  for (std::size_t i = 0; i < island_ok_.size(); ++i)
+    if (!island_awake.empty() && island_awake[i] == 0) island_ok_[i] = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    bool kinematic = false;
+    const int island = islandOf(rows[k], bodies, islands, kinematic);
+    if (island < 0) continue;
+    const bool held = k < joint_rows && (holdsExactly(rows[k], settings) || isForceRow(rows[k]));
+    if (!held || kinematic) island_ok_[static_cast<std::size_t>(island)] = 0;
+  }
+  accurate.assign(bodies.size(), 0);
+  int count = 0;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (!bodies[i].isDynamic()) continue;
+    const int island = islands.islandOf(static_cast<int>(i));
+    if (island >= 0 && island_ok_[static_cast<std::size_t>(island)]) {
+      accurate[i] = 1;
+      ++count;
+    }
+  }
+  return count;
+}
+
+void AccurateIntegrator::put(std::span<const Motion> state, std::span<Body> bodies) const {
+  for (std::size_t n = 0; n < ids_.size(); ++n) {
+    Body& b = bodies[static_cast<std::size_t>(ids_[n])];
+    const Motion& m = state[n];
+    b.setPose(Pose{m.x, Quat(m.q[0], m.q[1], m.q[2], m.q[3])});
+    b.setLinearVelocity(m.v);
+    b.setAngularVelocity(m.w);
+  }
+}
+
+void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::span<Motion> rate,
+                               std::unordered_map<std::uint64_t, double>& forces) {
+  put(state, bodies_);
+  dynamics_.accelerations(joints_, bodies_, *settings_, moving_, time, threads_, dv_, dw_);
+  for (std::size_t n = 0; n < ids_.size(); ++n) {
+    const auto i = static_cast<std::size_t>(ids_[n]);
+    const Motion& m = state[n];
+    rate[n] = Motion{m.v, quaternionRate(m.w, m.q), dv_[i], dw_[i]};
+  }
+  forces.clear();
+  const std::span<const Row> rows = dynamics_.rows();
+  const std::span<const double> f = dynamics_.forces();
+  for (std::size_t k = 0; k < rows.size(); ++k) forces[rows[k].key] += f[k];
+  for (const Motion& r : rate)
+    if (!(r.v.allFinite() && r.w.allFinite()))
+      throw std::domain_error("accurate integrator: the accelerations are not finite");
+}
+
+double AccurateIntegrator::errorNorm(double tolerance) const {
+  double worst = 0.0;
+  const auto part = [&](auto&& e, auto&& a, auto&& b) {
+    for (Eigen::Index c = 0; c < e.size(); ++c) {
+      const double scale = tolerance * std::max({1.0, std::abs(a[c]), std::abs(b[c])});
+      worst = std::max(worst, std::abs(e[c]) / scale);
+    }
+  };
+  for (std::size_t n = 0; n < ids_.size(); ++n) {
+    part(error_[n].x, y0_[n].x, y1_[n].x);
+    part(error_[n].q, y0_[n].q, y1_[n].q);
+    part(error_[n].v, y0_[n].v, y1_[n].v);
+    part(error_[n].w, y0_[n].w, y1_[n].w);
+  }
+  return std::isfinite(worst) ? worst : kInfinity;
+}
+
+AccurateReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
+                                           std::span<Body> bodies, const WorldSettings& settings,
+                                           std::span<const std::uint8_t> accurate, double time,
+                                           double h, int threads, std::span<const Row> rows,
+                                           std::span<double> lambda) {
+  joints_ = joints;
+  bodies_ = bodies;
+  settings_ = &settings;
+  moving_ = accurate;
+  threads_ = threads;
+  ids_.clear();
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (accurate[i]) ids_.push_back(static_cast<int>(i));
+  AccurateReport report;
+  report.bodies = static_cast<int>(ids_.size());
+  if (ids_.empty()) return report;
+  const std::size_t n = ids_.size();
+  dv_.resize(bodies.size());
+  dw_.resize(bodies.size());
+  for (auto& k : k_) k.resize(n);
+  y0_.resize(n);
+  y_.resize(n);
+  y1_.resize(n);
+  error_.resize(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    const Body& b = bodies[static_cast<std::size_t>(ids_[m])];
+    const Quat& q = b.orientation();
+    y0_[m] = Motion{b.position(), Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()), b.linearVelocity(),
+                    b.angularVelocity()};
+  }
+
+  const double tolerance = settings.integrator.tolerance;
+  const SolverSettings& solver = settings.solver;
+  impulses_.clear();
+  double t = 0.0;      // into the frame
+  double dt = h;       // the next step's size: the whole frame first
+  bool fresh = false;  // k_[0] holds the rates at y0_
+  constexpr int kMaxSteps = 100000;
+  while (t < h) {
+    if (report.steps + report.rejected > kMaxSteps || !(dt > h * 1e-12))
+      throw std::domain_error(
+          fmt::format("accurate integrator: the step size fell to {:.3g} s at t = {} s (the motion "
+                      "is too fast or the joints are singular for integrator.tolerance {})",
+                      dt, time + t, tolerance));
+    const bool last = t + dt >= h * (1.0 - 1e-12);
+    if (last) dt = h - t;
+    if (!fresh) rates(y0_, time + t, k_[0], stage_forces_[0]);
+    fresh = true;
+    for (int s = 1; s < dp::kStages; ++s) {
+      for (std::size_t m = 0; m < n; ++m) {
+        Motion y = y0_[m];
+        for (int j = 0; j < s; ++j) {
+          const double a = dp::a[static_cast<std::size_t>(s)][static_cast<std::size_t>(j)] * dt;
+          if (a == 0.0) continue;
+          const Motion& k = k_[static_cast<std::size_t>(j)][m];
+          y.x += a * k.x;
+          y.q += a * k.q;
+          y.v += a * k.v;
+          y.w += a * k.w;
+        }
+        (s + 1 == dp::kStages ? y1_ : y_)[m] = y;
+      }
+      rates(s + 1 == dp::kStages ? y1_ : y_, time + t + dp::c[static_cast<std::size_t>(s)] * dt,
+            k_[static_cast<std::size_t>(s)], stage_forces_[static_cast<std::size_t>(s)]);
+    }
+    for (std::size_t m = 0; m < n; ++m) {
+      Motion e;
+      for (int s = 0; s < dp::kStages; ++s) {
+        const double w = dp::e[static_cast<std::size_t>(s)] * dt;
+        const Motion& k = k_[static_cast<std::size_t>(s)][m];
+        e.x += w * k.x;
+        e.q += w * k.q;
+        e.v += w * k.v;
+        e.w += w * k.w;
+      }
+      error_[m] = e;
+    }
+    const double err = errorNorm(tolerance);
+    // The next size from the estimate (Hairer, Norsett, Wanner II.4): safety 0.9, between a fifth
+    // and five times this one.
+    const double grow =
+        std::clamp(0.9 * std::pow(std::max(err, 1e-10), -1.0 / dp::kErrorExponent), 0.2, 5.0);
+    if (!(err <= 1.0)) {
+      ++report.rejected;
+      dt *= std::min(grow, 0.9);
+      continue;
+    }
+    // Accepted: the fifth-order solution is the last stage's state (first same as last).
+    for (int s = 0; s < dp::kStages; ++s) {
+      const double w = dp::b[static_cast<std::size_t>(s)] * dt;
+      if (w == 0.0) continue;
+      for (const auto& [key, force] : stage_forces_[static_cast<std::size_t>(s)])
+        impulses_[key] += w * force;
+    }
+    put(y1_, bodies);
+    t = last ? h : t + dt;
+    report.error =
+        std::max(report.error, projection_.project(joints, bodies, solver, accurate, time + t, 10,
+                                                   solver.projection_tolerance, threads));
+    for (std::size_t m = 0; m < n; ++m) {
+      const Body& b = bodies[static_cast<std::size_t>(ids_[m])];
+      const Quat& q = b.orientation();
+      y0_[m] = Motion{b.position(), Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()), b.linearVelocity(),
+                      b.angularVelocity()};
+      if (!(y0_[m].x.allFinite() && y0_[m].q.allFinite() && y0_[m].v.allFinite() &&
+            y0_[m].w.allFinite()))
+        throw std::domain_error("accurate integrator: the state is not finite");
+    }
+    fresh = false;
+    ++report.steps;
+    dt *= grow;
+  }
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto it = impulses_.find(rows[k].key);
+    if (it != impulses_.end()) lambda[k] = it->second;
+  }
+  return report;
+}
+
+}  // namespace linx::step
+
+namespace linx {
+
+std::string_view integratorTypeName(IntegratorType type) {
+  switch (type) {
+    case IntegratorType::Step:
+      return "step";
+    case IntegratorType::Accurate:
+      return "accurate";
+  }
+  return "unknown";
+}
+
+}  // namespace linx

@@ -1,0 +1,91 @@
+// The accurate integrator (issue 19, docs/integrators.md): islands whose constraints are joints
+// alone move by the Dormand-Prince 5(4) Runge-Kutta pair on the index-1 equations of motion
+// (step/constrained_dynamics), each of its steps projected back onto the joints' manifold
+// (step/manifold_projection), the step size chosen by the local error estimate so that a frame of
+// the world's step is split where the motion needs it. Fifth order: a pendulum chain keeps its
+// energy to 1e-9 where the velocity-level step loses most of it.
+//
+// The state of a body is its position, its orientation quaternion taken as four numbers
+// (dq/dt = 1/2 (0, w) q, normalized where the joints read it and after each step) and its linear
+// and angular velocity in the world frame.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/row.hpp>
+#include <linx/world.hpp>
+
+#include "step/constrained_dynamics.hpp"
+#include "step/islands.hpp"
+#include "step/manifold_projection.hpp"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+namespace linx::step {
+
+/// What the accurate integrator did over its last frame.
+struct AccurateReport {
+  int steps = 0;       ///< accepted Runge-Kutta steps
+  int rejected = 0;    ///< steps tried and refused (local error above the tolerance)
+  int bodies = 0;      ///< bodies it moved
+  double error = 0.0;  ///< the largest joint error it projected away (m or rad)
+};
+
+class AccurateIntegrator {
+ public:
+  /// Flags in `accurate` (one per body) the bodies of the awake islands it moves: islands of
+  /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly) or coordinate
+  /// forces; an island with a contact, a limit, a motor, a drive, a prescribed motion or a joint
+  /// to a kinematic body takes the step. The first `joint_rows` rows are the joints'. Returns how
+  /// many bodies it flagged.
+  int select(std::span<const Body> bodies, std::span<const Row> rows, std::size_t joint_rows,
+             const Islands& islands, std::span<const std::uint8_t> island_awake,
+             const SolverSettings& settings, std::vector<std::uint8_t>& accurate);
+
+  /// Moves the flagged bodies from their state at `time` to time + h. Writes each of `rows`' share
+  /// of the joints' impulses over the frame into `lambda` (by key; the rows of the flagged bodies).
+  /// Throws std::domain_error when the state stops being finite or the step size collapses.
+  AccurateReport advance(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+                         const WorldSettings& settings, std::span<const std::uint8_t> accurate,
+                         double time, double h, int threads, std::span<const Row> rows,
+                         std::span<double> lambda);
+
+ private:
+  /// One body's state, or its rate.
+  struct Motion {
+    Vec3 x = Vec3::Zero();
+    Eigen::Vector4d q = Eigen::Vector4d::Zero();  // w, x, y, z
+    Vec3 v = Vec3::Zero();
+    Vec3 w = Vec3::Zero();
+  };
+  /// The rates of the bodies at `state` (written into the bodies first) and `time`, into `rate`;
+  /// the joints' forces there, by row key, into `forces`.
+  void rates(std::span<const Motion> state, double time, std::span<Motion> rate,
+             std::unordered_map<std::uint64_t, double>& forces);
+  void put(std::span<const Motion> state, std::span<Body> bodies) const;
+  /// The largest component of `error` over its scale tol max(1, |y0|, |y1|).
+  double errorNorm(double tolerance) const;
+
+  std::span<const std::unique_ptr<Joint>> joints_;
+  std::span<Body> bodies_;
+  const WorldSettings* settings_ = nullptr;
+  std::span<const std::uint8_t> moving_;
+  int threads_ = 1;
+
+  std::vector<int> ids_;  // the moving bodies
+  std::vector<Motion> y0_, y_, y1_, error_;
+  std::array<std::vector<Motion>, 7> k_;
+  std::array<std::unordered_map<std::uint64_t, double>, 7> stage_forces_;
+  std::unordered_map<std::uint64_t, double> impulses_;
+  std::vector<Vec3> dv_, dw_;
+  std::vector<std::uint8_t> island_ok_;
+  ConstrainedDynamics dynamics_;
+  ManifoldProjection projection_;
+};
+
+}  // namespace linx::step

@@ -1,0 +1,184 @@
+#include "step/constrained_dynamics.hpp"
+
+#include "dynamics/integrator.hpp"
+#include "joints/row_parts.hpp"
+#include "step/assembly.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace linx::step {
+
+namespace {
+
+/// A coordinate force: a motor row whose bounds pin its impulse (Joint::setForce, "force").
+bool isForceRow(const Row& r) {
+  return r.kind == RowKind::Motor && r.lo == r.hi;
+}
+
+}  // namespace
+
+bool actsOnMoving(const Row& r, std::span<const std::uint8_t> moving) {
+  bool any = false, all = true;
+  r.forEachBlock([&](int body, const Vec6&) {
+    if (body < 0) return;
+    if (moving[static_cast<std::size_t>(body)] != 0)
+      any = true;
+    else
+      all = false;
+  });
+  return any && all;
+}
+
+void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
+                      const SolverSettings& settings, std::span<const std::uint8_t> moving,
+                      double time, std::vector<Row>& all, std::vector<Row>& out) {
+  assembleRows(joints, bodies, settings, 1.0, time, all);
+  out.clear();
+  for (const Row& r : all)
+    if (holdsExactly(r, settings) && actsOnMoving(r, moving)) out.push_back(r);
+}
+
+bool holdsExactly(const Row& row, const SolverSettings& settings) {
+  // (Only a prescribed coordinate's equality has a speed of its own; the step's curvature may have
+  // set one on the others.)
+  return row.kind == RowKind::Bilateral && row.cfm <= settings.cfm &&
+         !joints::isPrescribedSlot(static_cast<int>(row.key & 0xff));
+}
+
+double rowSpeed(const Row& row, std::span<const Body> bodies) {
+  double s = 0.0;
+  row.forEachBlock([&](int body, const Vec6& j) {
+    if (body < 0) return;
+    const Body& b = bodies[static_cast<std::size_t>(body)];
+    s += j.head<3>().dot(b.linearVelocity()) + j.tail<3>().dot(b.angularVelocity());
+  });
+  return s;
+}
+
+void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
+                                 std::span<const Body> bodies, const SolverSettings& settings,
+                                 std::span<const std::uint8_t> moving, double time,
+                                 std::vector<Row>& out) {
+  // h scales only what these rows do not use (a motor's bound: a force row's impulse over h = 1).
+  assembleRows(joints, bodies, settings, 1.0, time, all_);
+  out.clear();
+  for (const Row& r : all_)
+    if ((holdsExactly(r, settings) || isForceRow(r)) && actsOnMoving(r, moving)) out.push_back(r);
+}
+
+void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint>> joints,
+                                           std::span<Body> bodies, const SolverSettings& settings,
+                                           std::span<const std::uint8_t> moving, double time) {
+  // The time step of the difference: the fastest body turns or moves 1e-5 (rad, or m over a
+  // metre) along it. The difference's truncation error is then about 1e-10 of the curvature and
+  // its round-off about 1e-16 / 1e-5 of the rows' size times the speed.
+  double speed = 1.0;
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (moving[i])
+      speed =
+          std::max({speed, bodies[i].linearVelocity().norm(), bodies[i].angularVelocity().norm()});
+  const double eps = 1e-5 / speed;
+  poses_.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (moving[i]) poses_[i] = bodies[i].pose();
+  const auto shift = [&](double dt, std::vector<Row>& out) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      if (!moving[i]) continue;
+      bodies[i].setPose(poses_[i]);
+      dynamics::integratePosition(bodies[i], dt);
+    }
+    gather(joints, bodies, settings, moving, time + dt, out);
+  };
+  shift(-eps, before_);
+  shift(eps, after_);
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (moving[i]) bodies[i].setPose(poses_[i]);
+
+  index_.clear();
+  for (std::size_t k = 0; k < before_.size(); ++k) index_.emplace(before_[k].key, k);
+  curvature_.assign(rows_.size(), 0.0);
+  std::size_t k_after = 0;
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    if (isForceRow(rows_[k])) continue;
+    const auto b = index_.find(rows_[k].key);
+    // The lists follow the joints' order: the matching row of `after_` is at or past k_after.
+    while (k_after < after_.size() && after_[k_after].key != rows_[k].key) ++k_after;
+    if (b == index_.end() || k_after == after_.size()) continue;  // a row that comes or goes
+    const Row& lo = before_[b->second];
+    const Row& hi = after_[k_after];
+    Row d = hi;
+    d.Ja -= lo.Ja;
+    d.Jb -= lo.Jb;
+    d.Jc -= lo.Jc;
+    d.Jd -= lo.Jd;
+    curvature_[k] = rowSpeed(d, bodies) / (2.0 * eps);
+  }
+}
+
+void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> joints,
+                                        std::span<Body> bodies, const WorldSettings& settings,
+                                        std::span<const std::uint8_t> moving, double time,
+                                        int threads, std::span<Vec3> dv, std::span<Vec3> dw) {
+  gather(joints, bodies, settings.solver, moving, time, rows_);
+  // The equality rows first (they are solved), then the coordinate forces (they are applied).
+  const auto forces = std::stable_partition(rows_.begin(), rows_.end(),
+                                            [](const Row& r) { return !isForceRow(r); });
+  const auto equalities = static_cast<std::size_t>(forces - rows_.begin());
+  measureCurvature(joints, bodies, settings.solver, moving, time);
+
+  // The unconstrained accelerations M^-1 f, with the coordinate forces' J^T F.
+  solver_bodies_.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    solver::SolverBody& s = solver_bodies_[i];
+    if (!moving[i]) {
+      s = solver::SolverBody{};
+      continue;
+    }
+    const Body& b = bodies[i];
+    const Mat3 inertia = b.inertiaWorld();
+    const Vec3 w = b.angularVelocity();
+    const Vec3 force =
+        b.mass() * settings.gravity + b.force() - b.mass() * b.linearDamping() * b.linearVelocity();
+    const Vec3 torque = b.torque() - w.cross(inertia * w) - b.angularDamping() * (inertia * w);
+    s = solver::SolverBody{b.inverseMass(), b.inverseInertiaWorld(), b.inverseMass() * force,
+                           Vec3::Zero()};
+    s.w = s.inv_inertia * torque;
+  }
+  for (const Row& r : rows_) {
+    if (!isForceRow(r)) continue;
+    r.forEachBlock([&](int body, const Vec6& j) {
+      if (body < 0) return;
+      solver::SolverBody& s = solver_bodies_[static_cast<std::size_t>(body)];
+      s.v += s.inv_mass * r.lo * j.head<3>();
+      s.w += s.inv_inertia * (r.lo * j.tail<3>());
+    });
+  }
+
+  // J a = -(dJ/dt) u on the equality rows: a velocity solve of unit length with the accelerations
+  // in place of the velocities, without error reduction or regularization. A coordinate force's
+  // row takes no part in it (its bounds pin its impulse: it stays at its force).
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    Row& r = rows_[k];
+    if (isForceRow(r)) continue;
+    r.speed = -curvature_[k];
+    r.phi = 0.0;
+    r.erp = 0.0;
+    r.cfm = 0.0;
+  }
+  lambda_.assign(rows_.size(), 0.0);
+  for (std::size_t k = 0; k < rows_.size(); ++k)
+    if (isForceRow(rows_[k])) lambda_[k] = rows_[k].lo;
+  SolverSettings exact = settings.solver;
+  exact.type = SolverType::Exact;
+  solver::Problem problem{std::span<const Row>(rows_).first(equalities), solver_bodies_,
+                          std::span<double>(lambda_).first(equalities), 1.0, threads};
+  if (equalities > 0) solver_.solve(problem, exact);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (!moving[i]) continue;
+    dv[i] = solver_bodies_[i].v;
+    dw[i] = solver_bodies_[i].w;
+  }
+}
+
+}  // namespace linx::step

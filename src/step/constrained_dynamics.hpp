@@ -1,0 +1,78 @@
+// The accelerations of bodies held by joints: the index-1 equations of motion of the accurate
+// integrator (docs/integrators.md),
+//   M a - J^T lambda = f(x, u),   J a = -(dJ/dt) u,
+// with f gravity, the applied loads, the bodies' damping and the gyroscopic term -w x (I w), and
+// lambda the joints' forces. They are the velocity solve's problem with the unconstrained
+// accelerations in place of u*: the exact solver finds lambda (O(n) along the tree for mechanisms
+// without loops; redundant rows, as in a planar loop of hinges, by its regularized LDL^T).
+// The rows' curvature (dJ/dt) u is measured by a central difference of the rows along the bodies'
+// velocities, over a time short enough that the difference is exact to about 1e-10 of it.
+#pragma once
+
+#include <linx/body.hpp>
+#include <linx/joint.hpp>
+#include <linx/row.hpp>
+#include <linx/world.hpp>
+
+#include "solver/exact_solver.hpp"
+#include "solver/problem.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+namespace linx::step {
+
+/// Whether a joint row is one the accurate integrator holds (an equality of the bodies' poses
+/// alone: not a limit, motor, drive, a prescribed motion, nor a joint softened by its cfm).
+bool holdsExactly(const Row& row, const SolverSettings& settings);
+
+class ConstrainedDynamics {
+ public:
+  /// The accelerations of the bodies flagged in `moving` at their current state and `time`: their
+  /// rates of linear and angular velocity (world frame) in `dv` and `dw` (one per body; the others
+  /// are left alone). The joints' rows that act on moving bodies must join them only to moving or
+  /// still bodies. Moves the moving bodies for the curvature and puts them back exactly.
+  void accelerations(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+                     const WorldSettings& settings, std::span<const std::uint8_t> moving,
+                     double time, int threads, std::span<Vec3> dv, std::span<Vec3> dw);
+
+  /// The rows of the last call (the joints' equality rows on moving bodies) and their forces there
+  /// (N or N m, positive along the row).
+  std::span<const Row> rows() const { return rows_; }
+  std::span<const double> forces() const { return lambda_; }
+
+ private:
+  /// The joints' equality rows on moving bodies at the bodies' current poses, into `out`.
+  void gather(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
+              const SolverSettings& settings, std::span<const std::uint8_t> moving, double time,
+              std::vector<Row>& out);
+  /// Each row's (dJ/dt) u, by rows gathered with the bodies moved by -eps and +eps along their
+  /// velocities.
+  void measureCurvature(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+                        const SolverSettings& settings, std::span<const std::uint8_t> moving,
+                        double time);
+
+  std::vector<Row> all_, rows_, before_, after_;
+  std::vector<double> curvature_, lambda_;
+  std::unordered_map<std::uint64_t, std::size_t> index_;
+  std::vector<Pose> poses_;
+  std::vector<solver::SolverBody> solver_bodies_;
+  solver::ExactSolver solver_;
+};
+
+/// Whether a row acts on a body flagged in `moving` and on no other dynamic or kinematic body.
+bool actsOnMoving(const Row& row, std::span<const std::uint8_t> moving);
+
+/// The joints' rows the accurate integrator holds (holdsExactly) that act on moving bodies, at the
+/// bodies' current poses; `all` is scratch.
+void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
+                      const SolverSettings& settings, std::span<const std::uint8_t> moving,
+                      double time, std::vector<Row>& all, std::vector<Row>& out);
+
+/// The speed of a row: J u with the bodies' velocities.
+double rowSpeed(const Row& row, std::span<const Body> bodies);
+
+}  // namespace linx::step

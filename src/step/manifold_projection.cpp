@@ -1,0 +1,64 @@
+#include "step/manifold_projection.hpp"
+
+#include "dynamics/integrator.hpp"
+#include "step/constrained_dynamics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace linx::step {
+
+void ManifoldProjection::solve(const SolverSettings& settings, int threads) {
+  for (Row& r : rows_) {
+    r.erp = 0.0;
+    r.cfm = 0.0;
+  }
+  lambda_.assign(rows_.size(), 0.0);
+  SolverSettings exact = settings;
+  exact.type = SolverType::Exact;
+  solver::Problem problem{rows_, solver_bodies_, lambda_, 1.0, threads};
+  solver_.solve(problem, exact);
+}
+
+double ManifoldProjection::project(std::span<const std::unique_ptr<Joint>> joints,
+                                   std::span<Body> bodies, const SolverSettings& settings,
+                                   std::span<const std::uint8_t> moving, double time,
+                                   int iterations, double tolerance, int threads) {
+  solver_bodies_.resize(bodies.size());
+  const auto gatherBodies = [&](bool velocities) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const Body& b = bodies[i];
+      solver_bodies_[i] = moving[i]
+                              ? solver::SolverBody{b.inverseMass(), b.inverseInertiaWorld(),
+                                                   velocities ? b.linearVelocity() : Vec3::Zero(),
+                                                   velocities ? b.angularVelocity() : Vec3::Zero()}
+                              : solver::SolverBody{};
+    }
+  };
+  // Positions: Newton's iterations on phi = 0, the rows assembled afresh at each.
+  double error = 0.0;
+  for (int it = 0;; ++it) {
+    gatherEqualities(joints, bodies, settings, moving, time, all_, rows_);
+    error = 0.0;
+    for (const Row& r : rows_) error = std::max(error, std::abs(r.phi));
+    if (rows_.empty() || error <= tolerance || it == iterations) break;
+    for (Row& r : rows_) r.speed = -r.phi;
+    gatherBodies(false);
+    solve(settings, threads);
+    for (std::size_t i = 0; i < bodies.size(); ++i)
+      if (moving[i]) dynamics::displace(bodies[i], solver_bodies_[i].v, solver_bodies_[i].w);
+  }
+  // Velocities: onto the tangent at the poses reached (rows_ were gathered there).
+  if (rows_.empty()) return error;
+  for (Row& r : rows_) r.speed = 0.0;
+  gatherBodies(true);
+  solve(settings, threads);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (!moving[i]) continue;
+    bodies[i].setLinearVelocity(solver_bodies_[i].v);
+    bodies[i].setAngularVelocity(solver_bodies_[i].w);
+  }
+  return error;
+}
+
+}  // namespace linx::step
