@@ -1,6 +1,7 @@
 #include "step/accurate_integrator.hpp"
 
 #include "dynamics/dormand_prince.hpp"
+#include "world/state_archive.hpp"
 
 #include <fmt/format.h>
 
@@ -70,6 +71,10 @@ int AccurateIntegrator::select(std::span<const Body> bodies, std::span<const Row
     }
   }
   return count;
+}
+
+void AccurateIntegrator::persist(state::Archive& archive) {
+  archive(next_step_);
 }
 
 void AccurateIntegrator::put(std::span<const Motion> state, std::span<Body> bodies) const {
@@ -151,8 +156,9 @@ AccurateReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint
   const double tolerance = settings.integrator.tolerance;
   const SolverSettings& solver = settings.solver;
   impulses_.clear();
-  double t = 0.0;      // into the frame
-  double dt = h;       // the next step's size: the whole frame first
+  double t = 0.0;  // into the frame
+  // The next step's size: the last frame's proposal, else the whole frame.
+  double dt = next_step_ > 0.0 ? std::min(next_step_, h) : h;
   bool fresh = false;  // k_[0] holds the rates at y0_
   constexpr int kMaxSteps = 100000;
   while (t < h) {
@@ -161,6 +167,7 @@ AccurateReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint
           fmt::format("accurate integrator: the step size fell to {:.3g} s at t = {} s (the motion "
                       "is too fast or the joints are singular for integrator.tolerance {})",
                       dt, time + t, tolerance));
+    const double natural = dt;
     const bool last = t + dt >= h * (1.0 - 1e-12);
     if (last) dt = h - t;
     if (!fresh) rates(y0_, time + t, k_[0], stage_forces_[0]);
@@ -227,8 +234,10 @@ AccurateReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint
     }
     fresh = false;
     ++report.steps;
-    dt *= grow;
+    // A last step cut short to end the frame proposes no less than the size it was cut from.
+    dt = last && dt < natural ? std::max(natural, dt * grow) : dt * grow;
   }
+  next_step_ = dt;
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto it = impulses_.find(rows[k].key);
     if (it != impulses_.end()) lambda[k] = it->second;

@@ -26,6 +26,10 @@
 #include <unordered_map>
 #include <vector>
 
+namespace linx::state {
+class Archive;
+}
+
 namespace linx::step {
 
 /// What the accurate integrator did over its last frame.
@@ -55,6 +59,10 @@ class AccurateIntegrator {
                          double time, double h, int threads, std::span<const Row> rows,
                          std::span<double> lambda);
 
+  /// Reads or writes what carries to the next frame (World::saveState): the step size the last
+  /// frame's error proposed.
+  void persist(state::Archive& archive);
+
  private:
   /// One body's state, or its rate.
   struct Motion {
@@ -76,6 +84,7 @@ class AccurateIntegrator {
   const WorldSettings* settings_ = nullptr;
   std::span<const std::uint8_t> moving_;
   int threads_ = 1;
+  double next_step_ = 0.0;  // (s) the size the last step's error proposed; 0: none yet
 
   std::vector<int> ids_;  // the moving bodies
   std::vector<Motion> y0_, y_, y1_, error_;
