@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace linx {
 namespace {
@@ -50,7 +52,7 @@ TEST(AccurateIntegrator, FiveLinkChainKeepsItsEnergy) {
   const double e0 = w.energy().total();
   double exchanged = 0.0, drift = 0.0, joint = 0.0;
   const auto start = std::chrono::steady_clock::now();
-  while (w.time() < 10.0 - 1e-9) {
+  while (w.time() < 60.0 - 1e-9) {
     w.step();
     exchanged = std::max(exchanged, w.energy().kinetic);
     drift = std::max(drift, std::abs(w.energy().total() - e0));
@@ -62,6 +64,100 @@ TEST(AccurateIntegrator, FiveLinkChainKeepsItsEnergy) {
               drift / exchanged, joint, seconds);
   EXPECT_LT(drift, 1e-6 * exchanged);
   EXPECT_LT(joint, 1e-8);
+}
+
+// Dzhanibekov's flips: a free body with I1 < I2 < I3 spun about its intermediate axis with a
+// small disturbance turns over and back. Euler's equations have the closed form (Landau and
+// Lifshitz, Mechanics, section 37; L^2 > 2 E I2): w2 = A2 sn(lambda t + tau0, k), so w2 changes
+// sign at t_n = (2 n K(k) - tau0) / lambda.
+TEST(AccurateIntegrator, FreeBodyFlipsAtTheClosedFormTimes) {
+  WorldSettings s = accurateSettings(1e-3);
+  s.gravity = Vec3::Zero();
+  World w(s);
+  const Vec3 inertia(1.0, 2.0, 3.0);
+  const Vec3 w0(0.01, 10.0, 0.01);
+  BodyDef d;
+  d.name = "tumbler";
+  d.mass = 1.0;
+  d.inertia = inertia.asDiagonal();
+  d.angular_velocity = w0;
+  const BodyId id = w.createBody(d);
+
+  const double i1 = inertia[0], i2 = inertia[1], i3 = inertia[2];
+  const double two_e = inertia.dot(w0.cwiseProduct(w0));
+  const double l2 = inertia.cwiseProduct(w0).squaredNorm();
+  ASSERT_GT(l2, two_e * i2);
+  const double k2 = (i2 - i1) * (two_e * i3 - l2) / ((i3 - i2) * (l2 - two_e * i1));
+  const double k = std::sqrt(k2);
+  const double lambda = std::sqrt((i3 - i2) * (l2 - two_e * i1) / (i1 * i2 * i3));
+  const double a2 = std::sqrt((two_e * i3 - l2) / (i2 * (i3 - i2)));
+  const double big_k = std::comp_ellint_1(k);
+  const double tau0 = std::ellint_1(k, std::asin(w0[1] / a2));
+
+  const double e0 = w.energy().kinetic;
+  double drift = 0.0, previous = w0[1], worst = 0.0;
+  int flips = 0;
+  while (w.time() < 30.0 - 1e-9) {
+    w.step();
+    const Body& b = w.body(id);
+    drift = std::max(drift, std::abs(w.energy().kinetic - e0));
+    const double w2 = (b.orientation().conjugate() * b.angularVelocity())[1];
+    if ((w2 < 0) != (previous < 0)) {
+      ++flips;
+      const double t = w.time() - s.timestep * w2 / (w2 - previous);  // linear interpolation
+      const double expected = (2.0 * flips * big_k - tau0) / lambda;
+      worst = std::max(worst, std::abs(t - expected));
+    }
+    previous = w2;
+  }
+  std::printf("%d flips, worst time %.3g s, energy drift %.3g of %.6g J\n", flips, worst, drift,
+              e0);
+  EXPECT_GE(flips, 4);
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_LT(drift, 1e-6 * e0);
+}
+
+// The heavy symmetric top in steady precession: a top of mass m, its centre at l from the fixed
+// tip (a ball joint), tilted theta from the vertical, keeps theta and precesses at the constant
+// rate W when its spin about its axis is w3 = (m g l + I1 W^2 cos(theta)) / (I3 W), I1 about the
+// tip (Goldstein, Classical Mechanics, section 5.7).
+TEST(AccurateIntegrator, HeavyTopPrecessesSteadily) {
+  WorldSettings s = accurateSettings(1e-3);
+  World w(s);
+  const double m = 1.0, l = 0.1, theta = 0.5, precession = 1.5;
+  const double ia = 2e-3, i3 = 3e-3;  // about the centre: across and along the axis
+  const double i1 = ia + m * l * l;   // across, about the tip
+  const double g = 9.81;
+  const double w3 =
+      (m * g * l + i1 * precession * precession * std::cos(theta)) / (i3 * precession);
+  const Vec3 axis(std::sin(theta), 0.0, std::cos(theta));  // at t = 0, in the x-z plane
+  BodyDef d;
+  d.name = "top";
+  d.mass = m;
+  d.inertia = Vec3(ia, ia, i3).asDiagonal();
+  d.orientation = Quat::FromTwoVectors(Vec3::UnitZ(), axis);
+  d.position = l * axis;
+  // w = W z + (w3 - W cos(theta)) axis, so that w . axis = w3.
+  const Vec3 omega = precession * Vec3::UnitZ() + (w3 - precession * std::cos(theta)) * axis;
+  d.angular_velocity = omega;
+  d.linear_velocity = omega.cross(d.position);
+  const BodyId id = w.createBody(d);
+  w.createJoint("ball", JointDef{.name = "tip", .body1 = id, .anchor = Vec3::Zero()});
+
+  double tilt = 0.0, azimuth = 0.0;
+  while (w.time() < 5.0 - 1e-9) {
+    w.step();
+    const Vec3 a = w.body(id).position().normalized();
+    tilt = std::max(tilt, std::abs(std::acos(a.z()) - theta));
+    // The axis's azimuth against W t, wrapped to (-pi, pi].
+    const double expected = precession * w.time();
+    const double phase =
+        std::remainder(std::atan2(a.y(), a.x()) - expected, 2.0 * std::numbers::pi);
+    azimuth = std::max(azimuth, std::abs(phase));
+  }
+  std::printf("tilt off by %.3g rad, azimuth off by %.3g rad over 5 s\n", tilt, azimuth);
+  EXPECT_LT(tilt, 1e-6);
+  EXPECT_LT(azimuth, 1e-6);
 }
 
 }  // namespace

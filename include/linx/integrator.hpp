@@ -19,7 +19,7 @@ struct IntegratorSettings {
   /// The accurate integrator's local error bound, per step of it, on each position (m), rotation
   /// (rad) and velocity (m/s, rad/s), relative to the larger of 1 and the value's size: a frame
   /// that would err more is split into smaller steps.
-  double tolerance = 1e-9;
+  double tolerance = 1e-10;
 };
 
 std::string_view integratorTypeName(IntegratorType type);

@@ -113,6 +113,7 @@ class SparseFreeRows final : public FreeRows {
   SpMat a_;                      // A, full symmetric
   std::vector<int> free_index_;  // row -> its place among the free rows, -1 for a held row
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt_;
+  std::vector<int> outer_, inner_;  // the pattern ldlt_ analyzed last
 };
 
 }  // namespace linx::solver

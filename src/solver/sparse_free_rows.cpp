@@ -76,7 +76,18 @@ int SparseFreeRows::solve(const Problem& p, std::span<const std::uint8_t> free,
   const double shift = 1e-13 * std::max(max_diag, 1e-300);
   SpMat shifted = aff;
   for (int i = 0; i < nf; ++i) shifted.coeffRef(i, i) += shift;
-  ldlt_.compute(shifted);
+  // The fill-reducing ordering depends on the pattern alone: a mechanism keeps its pattern from one
+  // solve to the next (the accurate integrator solves it seven times a step), so it is found once.
+  shifted.makeCompressed();
+  const auto outer = std::span<const int>(shifted.outerIndexPtr(), std::size_t(nf) + 1);
+  const auto inner = std::span<const int>(shifted.innerIndexPtr(), std::size_t(shifted.nonZeros()));
+  if (!std::equal(outer.begin(), outer.end(), outer_.begin(), outer_.end()) ||
+      !std::equal(inner.begin(), inner.end(), inner_.begin(), inner_.end())) {
+    ldlt_.analyzePattern(shifted);
+    outer_.assign(outer.begin(), outer.end());
+    inner_.assign(inner.begin(), inner.end());
+  }
+  ldlt_.factorize(shifted);
   if (ldlt_.info() != Eigen::Success)
     throw std::domain_error("exact solver: the factorization failed (non-finite rows?)");
   const auto residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {

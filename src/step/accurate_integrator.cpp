@@ -232,6 +232,8 @@ AccurateReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint
             y0_[m].w.allFinite()))
         throw std::domain_error("accurate integrator: the state is not finite");
     }
+    // The next step starts from the rates at the projected state: the last stage's, taken before
+    // the projection, made the four-bar through its singular positions reject steps and cost 4x.
     fresh = false;
     ++report.steps;
     // A last step cut short to end the frame proposes no less than the size it was cut from.

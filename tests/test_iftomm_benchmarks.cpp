@@ -1,0 +1,137 @@
+// The IFToMM library of computational benchmark problems for multibody dynamics, as the example
+// scenes of examples/benchmarks/ run them (accurate integrator, default settings): each scene's
+// compared quantity against the library's published reference solution at its high-precision
+// tolerance, 1e-3 (M. Gonzalez, D. Dopico, U. Lugris, J. Cuadrado, "A benchmarking system for MBS
+// simulation software", Multibody System Dynamics 16:179-190, 2006; ../shared/reference/
+// benchmarks.md), and the energy drift over the problem's whole duration.
+#include "support.hpp"
+
+#include <linx/scene.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <vector>
+
+namespace linx {
+namespace {
+
+constexpr double kHighPrecision = 1e-3;
+
+World loadBenchmark(const std::string& name, Scene& scene) {
+  scene = loadScene(std::string(LINX_EXAMPLES_DIR) + "/benchmarks/" + name);
+  EXPECT_EQ(scene.settings.integrator.type, IntegratorType::Accurate);
+  return buildWorld(scene);
+}
+
+// Jacobi's sn(u, k) by the arithmetic-geometric mean (Abramowitz and Stegun 16.4.3).
+double jacobiSn(double u, double k) {
+  std::vector<double> a{1.0}, c{k};
+  double b = std::sqrt(1.0 - k * k);
+  while (std::abs(c.back()) > 1e-16 && a.size() < 64) {
+    const double an = 0.5 * (a.back() + b);
+    c.push_back(0.5 * (a.back() - b));
+    b = std::sqrt(a.back() * b);
+    a.push_back(an);
+  }
+  double phi = std::ldexp(a.back(), static_cast<int>(a.size()) - 1) * u;
+  for (std::size_t n = a.size() - 1; n > 0; --n)
+    phi = 0.5 * (phi + std::asin(c[n] * std::sin(phi) / a[n]));
+  return std::sin(phi);
+}
+
+struct Point {
+  double t, x, y;
+};
+
+// A01: a 1 kg lumped mass on a massless 1 m link released horizontal, 2000 s. Closed form:
+// theta(t) = 2 asin(k sn(K - w0 t, k)), k = sin(45 deg), w0 = sqrt(g / L); x = -sin(theta),
+// y = -cos(theta). Compared every 0.5 s over the whole run, and at the published points.
+TEST(IftommBenchmarks, A01SimplePendulum) {
+  Scene scene;
+  World w = loadBenchmark("iftomm_a01_pendulum.json", scene);
+  const BodyId mass = *w.findBody("mass");
+  const double k = std::sin(std::numbers::pi / 4), w0 = std::sqrt(9.81);
+  const double big_k = std::comp_ellint_1(k);
+  const std::vector<Point> published{
+      {0.5, -3.91049E-01, -9.20370E-01},  {1.0, 9.86292E-01, -1.65011E-01},
+      {1.5, 8.84132E-01, -4.67237E-01},   {2.0, -7.93566E-01, -6.08484E-01},
+      {5.0, -9.42305E-01, -3.34754E-01},  {10.0, -2.75087E-01, -9.61419E-01},
+      {100.0, -1.81513E-01, -9.83388E-01}};
+  const double e0 = w.energy().total(), exchanged = 9.81;  // m g L
+  double worst = 0.0, worst_published = 0.0, drift = 0.0;
+  std::size_t next = 0;
+  const auto steps =
+      static_cast<std::int64_t>(std::llround(scene.duration / w.settings().timestep));
+  const auto every = static_cast<std::int64_t>(std::llround(0.5 / w.settings().timestep));
+  for (std::int64_t n = 1; n <= steps; ++n) {
+    w.step();
+    if (n % every != 0) continue;
+    const Vec3 p = w.body(mass).position();
+    const double theta = 2.0 * std::asin(k * jacobiSn(big_k - w0 * w.time(), k));
+    worst = std::max(worst, std::hypot(p.x() + std::sin(theta), p.y() + std::cos(theta)));
+    drift = std::max(drift, std::abs(w.energy().total() - e0));
+    if (next < published.size() && std::abs(w.time() - published[next].t) < 1e-9) {
+      worst_published = std::max(worst_published,
+                                 std::hypot(p.x() - published[next].x, p.y() - published[next].y));
+      ++next;
+    }
+  }
+  std::printf(
+      "A01 over %g s: position error %.3g m (published points %.3g m), energy drift %.3g "
+      "of %g J\n",
+      w.time(), worst, worst_published, drift, exchanged);
+  EXPECT_EQ(next, published.size());
+  EXPECT_LT(worst, kHighPrecision);
+  EXPECT_LT(worst_published, kHighPrecision);
+  EXPECT_LT(drift, 1e-6 * exchanged);
+}
+
+// A02: the N-four-bar mechanism (N = 40): 81 links, redundant constraints, singular positions
+// whenever its links are horizontal. Point B0, the top of the first crank, against the published
+// positions over 20 s.
+TEST(IftommBenchmarks, A02FourBarThroughItsSingularPositions) {
+  Scene scene;
+  World w = loadBenchmark("iftomm_a02_four_bar.json", scene);
+  const BodyId crank = *w.findBody("crank0");
+  const std::vector<Point> published{
+      {0.05, 5.02096E-02, 9.98739E-01},  {0.5, 6.87926E-01, 7.25781E-01},
+      {1.0, -1.15357E-01, -9.93324E-01}, {2.0, 3.44663E-02, 9.99406E-01},
+      {5.0, -5.40191E-01, -8.41543E-01}, {10.0, 1.80513E-01, 9.83573E-01},
+      {20.0, 4.10902E-01, 9.11679E-01}};
+  const double e0 = w.energy().total();
+  double worst = 0.0, drift = 0.0, joints = 0.0, exchanged = 0.0;
+  std::size_t next = 0;
+  const auto steps =
+      static_cast<std::int64_t>(std::llround(scene.duration / w.settings().timestep));
+  for (std::int64_t n = 1; n <= steps; ++n) {
+    w.step();
+    const Energy e = w.energy();
+    drift = std::max(drift, std::abs(e.total() - e0));
+    exchanged = std::max(exchanged, e.kinetic);
+    if (n % 10 == 0)
+      for (const JointId j : w.jointIds()) joints = std::max(joints, w.jointError(j));
+    if (next < published.size() && std::abs(w.time() - published[next].t) < 1e-9) {
+      const Body& b = w.body(crank);
+      const Vec3 tip = b.position() + b.orientation() * Vec3(0, 0.5, 0);  // B0
+      const double error = std::hypot(tip.x() - published[next].x, tip.y() - published[next].y);
+      std::printf("A02 t = %g s: B0 (%.6f, %.6f), error %.3g m\n", w.time(), tip.x(), tip.y(),
+                  error);
+      worst = std::max(worst, error);
+      ++next;
+    }
+  }
+  std::printf(
+      "A02 over %g s: B0 error %.3g m, energy drift %.3g of %.6g J exchanged, joints %.3g "
+      "m\n",
+      w.time(), worst, drift, exchanged, joints);
+  EXPECT_EQ(next, published.size());
+  EXPECT_LT(worst, kHighPrecision);
+  EXPECT_LT(drift, 1e-6 * exchanged);
+  EXPECT_LT(joints, 1e-8);
+}
+
+}  // namespace
+}  // namespace linx
