@@ -594,6 +594,47 @@ TEST(SceneError, Faults) {
   });
 }
 
+TEST(SceneError, Integrator) {
+  expectErrors({
+      {[](json& s) { s["integrator"] = "rk4"; }, "integrator",
+       "unknown integrator 'rk4' (expected \"step\" or \"accurate\")"},
+      {[](json& s) { s["integrator"] = 1; }, "integrator",
+       "expected \"step\", \"accurate\" or an object, got a number"},
+      {[](json& s) {
+         s["integrator"] = {{"type", "Accurate"}};
+       },
+       "integrator.type", "unknown integrator 'Accurate' (expected \"step\" or \"accurate\")"},
+      {[](json& s) {
+         s["integrator"] = {{"tolerence", 1e-9}};
+       },
+       "integrator.tolerence", "unknown field (did you mean 'tolerance'?)"},
+      {[](json& s) {
+         s["integrator"] = {{"tolerance", 0}};
+       },
+       "integrator.tolerance", "must be > 0, got 0"},
+      {[](json& s) {
+         s["integrator"] = {{"tolerance", 0.5}};
+       },
+       "integrator.tolerance", "must be between 1e-14 and 1e-2, got 0.5"},
+  });
+}
+
+TEST(SceneIo, IntegratorReadsAsAStringOrAnObject) {
+  const auto read = [](const std::string& integrator) {
+    return linx::parseScene(R"({"integrator": )" + integrator +
+                                R"(, "bodies": [{"name": "b", "mass": 1, "inertia": [1, 1, 1]}]})",
+                            "t.json")
+        .settings.integrator;
+  };
+  EXPECT_EQ(read(R"("step")").type, linx::IntegratorType::Step);
+  EXPECT_EQ(read(R"("accurate")").type, linx::IntegratorType::Accurate);
+  EXPECT_EQ(read(R"("accurate")").tolerance, linx::IntegratorSettings{}.tolerance);
+  const linx::IntegratorSettings s = read(R"({"type": "accurate", "tolerance": 1e-8})");
+  EXPECT_EQ(s.type, linx::IntegratorType::Accurate);
+  EXPECT_EQ(s.tolerance, 1e-8);
+  EXPECT_EQ(read(R"({"tolerance": 1e-8})").type, linx::IntegratorType::Step);
+}
+
 TEST(SceneError, Solver) {
   expectErrors({
       {[](json& s) { s["solver"] = "pgs"; }, "solver", "expected an object, got a string"},

@@ -272,10 +272,16 @@ int check(const RunOptions& options) {
   std::string extra;
   if (!p.scene.springs.empty()) extra += ", " + count(p.scene.springs.size(), "spring", "springs");
   if (!p.scene.loads.empty()) extra += ", " + count(p.scene.loads.size(), "load", "loads");
-  fmt::print("{}: ok: {}, {}{}, timestep {} s, duration {} s ({} steps), solver {}\n",
+  // The integrator when it is not the step.
+  const IntegratorSettings& i = p.scene.settings.integrator;
+  const std::string integrator =
+      i.type == IntegratorType::Step
+          ? std::string()
+          : fmt::format(", integrator {} (tolerance {})", integratorTypeName(i.type), i.tolerance);
+  fmt::print("{}: ok: {}, {}{}, timestep {} s, duration {} s ({} steps), solver {}{}\n",
              options.scene, count(p.scene.bodies.size(), "body", "bodies"),
              count(p.scene.joints.size(), "joint", "joints"), extra, p.scene.settings.timestep,
-             p.scene.duration, p.steps, solverTypeName(p.scene.settings.solver.type));
+             p.scene.duration, p.steps, solverTypeName(p.scene.settings.solver.type), integrator);
   return 0;
 }
 

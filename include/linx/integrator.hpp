@@ -22,6 +22,15 @@ struct IntegratorSettings {
   double tolerance = 1e-10;
 };
 
+/// What the accurate integrator did over the last step (World::lastIntegratorReport; the last
+/// pass's with solver substeps).
+struct IntegratorReport {
+  int bodies = 0;      ///< bodies it moved (the others took the step)
+  int steps = 0;       ///< its accepted Runge-Kutta steps
+  int rejected = 0;    ///< steps it tried and refused (local error above the tolerance)
+  double error = 0.0;  ///< the largest joint error it projected away (m or rad)
+};
+
 std::string_view integratorTypeName(IntegratorType type);
 
 }  // namespace linx

@@ -3,8 +3,8 @@
 
 #include <linx/body.hpp>
 #include <linx/contact.hpp>
-#include <linx/joint.hpp>
 #include <linx/integrator.hpp>
+#include <linx/joint.hpp>
 #include <linx/joint_defs.hpp>
 #include <linx/loads.hpp>
 #include <linx/solver.hpp>
@@ -241,6 +241,9 @@ class World {
   double time() const { return time_; }
   std::int64_t stepCount() const { return steps_; }
   const SolverReport& lastReport() const { return report_; }
+  /// What the accurate integrator did over the last step (all zero with integrator "step", or
+  /// when every island took the step: a contact, limit, motor or drive).
+  const IntegratorReport& lastIntegratorReport() const;
 
   /// The joint's coordinates (hinge angle in rad, slider position in m, ...: Joint::coordinates),
   /// zero at creation.

@@ -33,8 +33,9 @@ def _plain(value: Any) -> Any:
 
 class Scene:
     """A scene under construction. Top-level fields (gravity, timestep, duration, threads, solver,
-    contact, sleep, faults, view) are keyword arguments; bodies, joints, springs, forces and
-    torques are added in order with the methods below, each taking its scene-file fields."""
+    integrator, contact, sleep, faults, view) are keyword arguments; bodies, joints, springs,
+    forces and torques are added in order with the methods below, each taking its scene-file
+    fields."""
 
     def __init__(self, **fields: Any) -> None:
         self._top: dict[str, Any] = {k: _plain(v) for k, v in fields.items()}

@@ -122,11 +122,11 @@ double AccurateIntegrator::errorNorm(double tolerance) const {
   return std::isfinite(worst) ? worst : kInfinity;
 }
 
-AccurateReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
-                                           std::span<Body> bodies, const WorldSettings& settings,
-                                           std::span<const std::uint8_t> accurate, double time,
-                                           double h, int threads, std::span<const Row> rows,
-                                           std::span<double> lambda) {
+IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
+                                             std::span<Body> bodies, const WorldSettings& settings,
+                                             std::span<const std::uint8_t> accurate, double time,
+                                             double h, int threads, std::span<const Row> rows,
+                                             std::span<double> lambda) {
   joints_ = joints;
   bodies_ = bodies;
   settings_ = &settings;
@@ -135,7 +135,7 @@ AccurateReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint
   ids_.clear();
   for (std::size_t i = 0; i < bodies.size(); ++i)
     if (accurate[i]) ids_.push_back(static_cast<int>(i));
-  AccurateReport report;
+  IntegratorReport report;
   report.bodies = static_cast<int>(ids_.size());
   if (ids_.empty()) return report;
   const std::size_t n = ids_.size();

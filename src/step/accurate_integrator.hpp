@@ -32,14 +32,6 @@ class Archive;
 
 namespace linx::step {
 
-/// What the accurate integrator did over its last frame.
-struct AccurateReport {
-  int steps = 0;       ///< accepted Runge-Kutta steps
-  int rejected = 0;    ///< steps tried and refused (local error above the tolerance)
-  int bodies = 0;      ///< bodies it moved
-  double error = 0.0;  ///< the largest joint error it projected away (m or rad)
-};
-
 class AccurateIntegrator {
  public:
   /// Flags in `accurate` (one per body) the bodies of the awake islands it moves: islands of
@@ -54,10 +46,10 @@ class AccurateIntegrator {
   /// Moves the flagged bodies from their state at `time` to time + h. Writes each of `rows`' share
   /// of the joints' impulses over the frame into `lambda` (by key; the rows of the flagged bodies).
   /// Throws std::domain_error when the state stops being finite or the step size collapses.
-  AccurateReport advance(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
-                         const WorldSettings& settings, std::span<const std::uint8_t> accurate,
-                         double time, double h, int threads, std::span<const Row> rows,
-                         std::span<double> lambda);
+  IntegratorReport advance(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+                           const WorldSettings& settings, std::span<const std::uint8_t> accurate,
+                           double time, double h, int threads, std::span<const Row> rows,
+                           std::span<double> lambda);
 
   /// Reads or writes what carries to the next frame (World::saveState): the step size the last
   /// frame's error proposed.

@@ -119,7 +119,7 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
 std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& state,
                                                   std::span<const std::uint8_t> island_awake,
                                                   double h) {
-  state.accurate_report = AccurateReport{};
+  state.accurate_report = IntegratorReport{};
   std::vector<std::uint8_t>& accurate = state.accurate_bodies;
   if (scene.settings.integrator.type != IntegratorType::Accurate ||
       state.accurate.select(scene.bodies, state.rows.rows, state.rows.joint_rows, state.islands,

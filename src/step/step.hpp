@@ -102,7 +102,7 @@ struct State {
   AccurateIntegrator accurate;
   std::vector<std::uint8_t> accurate_bodies;  // moved by `accurate` this pass (one per body)
   std::vector<std::uint8_t> island_stepped;   // awake islands the step solves
-  AccurateReport accurate_report;
+  IntegratorReport accurate_report;
   std::vector<int> neighbours;
 
   /// Reads or writes what carries from one step to the next (World::saveState; carried_state.cpp):

@@ -280,6 +280,10 @@ BodyState World::bodyState(BodyId id) const {
   return step::stateOf(bodies_, id);
 }
 
+const IntegratorReport& World::lastIntegratorReport() const {
+  return impl_->step.accurate_report;
+}
+
 void World::step() {
   const double h = settings_.timestep;
   if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("timestep: must be > 0");
