@@ -8,9 +8,10 @@ namespace linx {
 enum class IntegratorType {
   /// The velocity-level step of every island (docs/solver.md): first order, for contacts.
   Step,
-  /// Islands whose constraints are joints only (no contact, limit, motor or drive rows) move by an
-  /// error-controlled Runge-Kutta method of order 5 on the index-1 equations of motion, projected
-  /// onto the joints' manifold after each of its steps; the others take the step.
+  /// Islands whose constraints are joints only (no contact, limit or velocity motor rows; springs,
+  /// servos and coordinate forces act as forces) move by an error-controlled Runge-Kutta method of
+  /// order 5 on the index-1 equations of motion, projected onto the joints' manifold after each of
+  /// its steps; the others take the step.
   Accurate,
 };
 

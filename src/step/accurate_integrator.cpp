@@ -15,11 +15,6 @@ namespace dp = dynamics::dormand_prince;
 
 namespace {
 
-/// Whether a row is a coordinate force (a motor row whose bounds pin its impulse).
-bool isForceRow(const Row& r) {
-  return r.kind == RowKind::Motor && r.lo == r.hi;
-}
-
 /// The first dynamic body's island of a row, -1 for none; `kinematic` tells whether the row holds
 /// a kinematic body.
 int islandOf(const Row& r, std::span<const Body> bodies, const Islands& islands, bool& kinematic) {
@@ -45,7 +40,8 @@ Eigen::Vector4d quaternionRate(const Vec3& w, const Eigen::Vector4d& q) {
 
 }  // namespace
 
-int AccurateIntegrator::select(std::span<const Body> bodies, std::span<const Row> rows,
+int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
+                               std::span<const Body> bodies, std::span<const Row> rows,
                                std::size_t joint_rows, const Islands& islands,
                                std::span<const std::uint8_t> island_awake,
                                const SolverSettings& settings,
@@ -57,7 +53,8 @@ int AccurateIntegrator::select(std::span<const Body> bodies, std::span<const Row
     bool kinematic = false;
     const int island = islandOf(rows[k], bodies, islands, kinematic);
     if (island < 0) continue;
-    const bool held = k < joint_rows && (holdsExactly(rows[k], settings) || isForceRow(rows[k]));
+    const bool held =
+        k < joint_rows && (holdsExactly(rows[k], settings) || actsAsForce(rows[k], joints));
     if (!held || kinematic) island_ok_[static_cast<std::size_t>(island)] = 0;
   }
   accurate.assign(bodies.size(), 0);

@@ -35,13 +35,15 @@ namespace linx::step {
 class AccurateIntegrator {
  public:
   /// Flags in `accurate` (one per body) the bodies of the awake islands it moves: islands of
-  /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly) or coordinate
-  /// forces; an island with a contact, a limit, a motor, a drive, a prescribed motion or a joint
-  /// to a kinematic body takes the step. The first `joint_rows` rows are the joints'. Returns how
+  /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly) or rows it applies
+  /// as forces (actsAsForce: coordinate forces, springs, servos); an island with a contact, a
+  /// limit, a velocity motor, friction, armature, a prescribed motion or a joint to a kinematic
+  /// body takes the step. The first `joint_rows` rows are the joints'. Returns how
   /// many bodies it flagged.
-  int select(std::span<const Body> bodies, std::span<const Row> rows, std::size_t joint_rows,
-             const Islands& islands, std::span<const std::uint8_t> island_awake,
-             const SolverSettings& settings, std::vector<std::uint8_t>& accurate);
+  int select(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
+             std::span<const Row> rows, std::size_t joint_rows, const Islands& islands,
+             std::span<const std::uint8_t> island_awake, const SolverSettings& settings,
+             std::vector<std::uint8_t>& accurate);
 
   /// Moves the flagged bodies from their state at `time` to time + h. Writes each of `rows`' share
   /// of the joints' impulses over the frame into `lambda` (by key; the rows of the flagged bodies).

@@ -6,14 +6,39 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 namespace linx::step {
 
 namespace {
 
+/// The length the rows are assembled for: short, so that what a row takes over it is what it
+/// takes at the rows' time (a force or a motor's target rate at time + h / 2 or time + h); the
+/// impulses of coordinate forces and the bounds of drives are divided by it.
+constexpr double kAssemblyStep = 1e-9;
+
 /// A coordinate force: a motor row whose bounds pin its impulse (Joint::setForce, "force").
 bool isForceRow(const Row& r) {
   return r.kind == RowKind::Motor && r.lo == r.hi;
+}
+
+/// The stiffness and damping of a drive row (a spring, a servo), none for other rows.
+std::optional<std::pair<double, double>> driveLaw(const Row& r,
+                                                  std::span<const std::unique_ptr<Joint>> joints) {
+  if (r.kind != RowKind::Drive) return std::nullopt;
+  const auto joint = static_cast<std::size_t>((r.key >> 8) - 1);
+  const int slot = static_cast<int>(r.key & 0xff);
+  if (joint >= joints.size() || slot < joints::coordinateSlot(0, 0)) return std::nullopt;
+  const auto index = static_cast<std::size_t>((slot - 16) / 16);
+  const int part = (slot - 16) % 16;
+  const auto& coordinates = joints[joint]->def().coordinates;
+  if (index >= coordinates.size()) return std::nullopt;
+  const CoordinateDef& c = coordinates[index];
+  if (part == 3 && c.spring) return std::pair{c.spring->stiffness, c.spring->damping};
+  if (part == 2 && c.motor && c.motor->isServo())
+    return std::pair{c.motor->target_position ? c.motor->stiffness : 0.0, c.motor->damping};
+  return std::nullopt;  // armature
 }
 
 }  // namespace
@@ -33,10 +58,14 @@ bool actsOnMoving(const Row& r, std::span<const std::uint8_t> moving) {
 void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                       const SolverSettings& settings, std::span<const std::uint8_t> moving,
                       double time, std::vector<Row>& all, std::vector<Row>& out) {
-  assembleRows(joints, bodies, settings, 1.0, time, all);
+  assembleRows(joints, bodies, settings, kAssemblyStep, time, all);
   out.clear();
   for (const Row& r : all)
     if (holdsExactly(r, settings) && actsOnMoving(r, moving)) out.push_back(r);
+}
+
+bool actsAsForce(const Row& row, std::span<const std::unique_ptr<Joint>> joints) {
+  return isForceRow(row) || driveLaw(row, joints).has_value();
 }
 
 bool holdsExactly(const Row& row, const SolverSettings& settings) {
@@ -61,10 +90,24 @@ void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
                                  std::span<const std::uint8_t> moving, double time,
                                  std::vector<Row>& out) {
   // h scales only what these rows do not use (a motor's bound: a force row's impulse over h = 1).
-  assembleRows(joints, bodies, settings, 1.0, time, all_);
+  assembleRows(joints, bodies, settings, kAssemblyStep, time, all_);
   out.clear();
-  for (const Row& r : all_)
-    if ((holdsExactly(r, settings) || isForceRow(r)) && actsOnMoving(r, moving)) out.push_back(r);
+  for (const Row& r : all_) {
+    if (!actsOnMoving(r, moving)) continue;
+    if (holdsExactly(r, settings)) {
+      out.push_back(r);
+    } else if (isForceRow(r)) {
+      Row& f = out.emplace_back(r);
+      f.lo = f.hi = r.lo / kAssemblyStep;
+    } else if (const auto law = driveLaw(r, joints)) {
+      // A drive's force at the bodies' state, as a coordinate force.
+      const auto [stiffness, damping] = *law;
+      const double force = -stiffness * r.phi - damping * (rowSpeed(r, bodies) - r.speed);
+      Row& f = out.emplace_back(r);
+      f.kind = RowKind::Motor;
+      f.lo = f.hi = std::clamp(force, r.lo / kAssemblyStep, r.hi / kAssemblyStep);
+    }
+  }
 }
 
 void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint>> joints,

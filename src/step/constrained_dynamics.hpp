@@ -63,6 +63,13 @@ class ConstrainedDynamics {
   solver::ExactSolver solver_;
 };
 
+/// Whether the accurate integrator applies a joint row as a force: a coordinate force
+/// (Joint::setForce, "force"), a spring on a coordinate, or a position servo or damped motor (a
+/// drive), the last two by their law F = -k phi - c (J u - speed), bounded by the drive's
+/// max_force. (Velocity motors, friction and armature are constraints: their islands take the
+/// step.)
+bool actsAsForce(const Row& row, std::span<const std::unique_ptr<Joint>> joints);
+
 /// Whether a row acts on a body flagged in `moving` and on no other dynamic or kinematic body.
 bool actsOnMoving(const Row& row, std::span<const std::uint8_t> moving);
 

@@ -122,8 +122,8 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
   state.accurate_report = IntegratorReport{};
   std::vector<std::uint8_t>& accurate = state.accurate_bodies;
   if (scene.settings.integrator.type != IntegratorType::Accurate ||
-      state.accurate.select(scene.bodies, state.rows.rows, state.rows.joint_rows, state.islands,
-                            island_awake, scene.settings.solver, accurate) == 0) {
+      state.accurate.select(scene.joints, scene.bodies, state.rows.rows, state.rows.joint_rows,
+                            state.islands, island_awake, scene.settings.solver, accurate) == 0) {
     accurate.assign(scene.bodies.size(), 0);
     return island_awake;
   }
