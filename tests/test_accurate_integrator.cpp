@@ -271,5 +271,34 @@ TEST(AccurateIntegrator, SpringsServosAndForcesActAsForces) {
   }
 }
 
+// The joints' forces over a frame are the momentum they gave: a 1 kg mass on a 1 m rod (a distance
+// joint) swinging from horizontal, at 10 ms frames, each split into several Runge-Kutta steps: the
+// reaction times h is m (v+ - v) - m g h, and along the rod at the frame's middle.
+TEST(AccurateIntegrator, JointForcesAreTheMomentumTheyGave) {
+  WorldSettings s = accurateSettings(0.01);
+  World w(s);
+  BodyDef d;
+  d.name = "mass";
+  d.mass = 1.0;
+  d.inertia = Vec3(1e-4, 1e-4, 1e-4).asDiagonal();
+  d.position = Vec3(1, 0, 0);
+  const BodyId mass = w.createBody(d);
+  const JointId rod = w.createJoint(
+      "distance",
+      JointDef{.name = "rod", .body1 = mass, .anchor = Vec3(1, 0, 0), .anchor2 = Vec3::Zero()});
+  double worst = 0.0, largest = 0.0;
+  while (w.time() < 3.0 - 1e-9) {
+    const Vec3 v0 = w.body(mass).linearVelocity();
+    w.step();
+    const Vec3 given = w.body(mass).linearVelocity() - v0 - s.gravity * s.timestep;  // m = 1
+    const Vec3 impulse = w.jointReaction(rod).force * s.timestep;
+    worst = std::max(worst, (impulse - given).norm());
+    largest = std::max(largest, given.norm());
+  }
+  std::printf("joint impulses off the momentum they gave by %.3g N s (largest %.3g N s)\n", worst,
+              largest);
+  EXPECT_LT(worst, 1e-9 * largest);
+}
+
 }  // namespace
 }  // namespace linx

@@ -85,7 +85,7 @@ void AccurateIntegrator::put(std::span<const Motion> state, std::span<Body> bodi
 }
 
 void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::span<Motion> rate,
-                               std::unordered_map<std::uint64_t, double>& forces) {
+                               std::vector<Row>& forces) {
   put(state, bodies_);
   dynamics_.accelerations(joints_, bodies_, *settings_, moving_, time, threads_, dv_, dw_);
   for (std::size_t n = 0; n < ids_.size(); ++n) {
@@ -93,10 +93,10 @@ void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::
     const Motion& m = state[n];
     rate[n] = Motion{m.v, quaternionRate(m.w, m.q), dv_[i], dw_[i]};
   }
-  forces.clear();
   const std::span<const Row> rows = dynamics_.rows();
   const std::span<const double> f = dynamics_.forces();
-  for (std::size_t k = 0; k < rows.size(); ++k) forces[rows[k].key] += f[k];
+  forces.assign(rows.begin(), rows.end());
+  for (std::size_t k = 0; k < rows.size(); ++k) forces[k].speed = f[k];
   for (const Motion& r : rate)
     if (!(r.v.allFinite() && r.w.allFinite()))
       throw std::domain_error("accurate integrator: the accelerations are not finite");
@@ -122,7 +122,7 @@ double AccurateIntegrator::errorNorm(double tolerance) const {
 IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
                                              std::span<Body> bodies, const WorldSettings& settings,
                                              std::span<const std::uint8_t> accurate, double time,
-                                             double h, int threads, std::span<const Row> rows,
+                                             double h, int threads, std::span<Row> rows,
                                              std::span<double> lambda) {
   joints_ = joints;
   bodies_ = bodies;
@@ -167,7 +167,7 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
     const double natural = dt;
     const bool last = t + dt >= h * (1.0 - 1e-12);
     if (last) dt = h - t;
-    if (!fresh) rates(y0_, time + t, k_[0], stage_forces_[0]);
+    if (!fresh) rates(y0_, time + t, k_[0], stage_rows_[0]);
     fresh = true;
     for (int s = 1; s < dp::kStages; ++s) {
       for (std::size_t m = 0; m < n; ++m) {
@@ -184,7 +184,7 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
         (s + 1 == dp::kStages ? y1_ : y_)[m] = y;
       }
       rates(s + 1 == dp::kStages ? y1_ : y_, time + t + dp::c[static_cast<std::size_t>(s)] * dt,
-            k_[static_cast<std::size_t>(s)], stage_forces_[static_cast<std::size_t>(s)]);
+            k_[static_cast<std::size_t>(s)], stage_rows_[static_cast<std::size_t>(s)]);
     }
     for (std::size_t m = 0; m < n; ++m) {
       Motion e;
@@ -212,8 +212,15 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
     for (int s = 0; s < dp::kStages; ++s) {
       const double w = dp::b[static_cast<std::size_t>(s)] * dt;
       if (w == 0.0) continue;
-      for (const auto& [key, force] : stage_forces_[static_cast<std::size_t>(s)])
-        impulses_[key] += w * force;
+      for (const Row& r : stage_rows_[static_cast<std::size_t>(s)]) {
+        Impulse& i = impulses_[r.key];
+        const double l = w * r.speed;
+        i.lambda += l;
+        i.Ja += l * r.Ja;
+        i.Jb += l * r.Jb;
+        i.Jc += l * r.Jc;
+        i.Jd += l * r.Jd;
+      }
     }
     put(y1_, bodies);
     t = last ? h : t + dt;
@@ -239,7 +246,15 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
   next_step_ = dt;
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const auto it = impulses_.find(rows[k].key);
-    if (it != impulses_.end()) lambda[k] = it->second;
+    if (it == impulses_.end()) continue;
+    const Impulse& i = it->second;
+    lambda[k] = i.lambda;
+    if (i.lambda == 0.0) continue;  // no direction to take: the row's at the frame's start
+    Row& r = rows[k];
+    r.Ja = i.Ja / i.lambda;
+    r.Jb = i.Jb / i.lambda;
+    r.Jc = i.Jc / i.lambda;
+    r.Jd = i.Jd / i.lambda;
   }
   return report;
 }

@@ -46,11 +46,13 @@ class AccurateIntegrator {
              std::vector<std::uint8_t>& accurate);
 
   /// Moves the flagged bodies from their state at `time` to time + h. Writes each of `rows`' share
-  /// of the joints' impulses over the frame into `lambda` (by key; the rows of the flagged bodies).
+  /// of the joints' impulses over the frame into `lambda`, and its mean direction over the frame
+  /// into its J (by key; the rows of the flagged bodies), so that J^T lambda is what the joint
+  /// applied over the frame.
   /// Throws std::domain_error when the state stops being finite or the step size collapses.
   IntegratorReport advance(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
                            const WorldSettings& settings, std::span<const std::uint8_t> accurate,
-                           double time, double h, int threads, std::span<const Row> rows,
+                           double time, double h, int threads, std::span<Row> rows,
                            std::span<double> lambda);
 
   /// Reads or writes what carries to the next frame (World::saveState): the step size the last
@@ -66,9 +68,9 @@ class AccurateIntegrator {
     Vec3 w = Vec3::Zero();
   };
   /// The rates of the bodies at `state` (written into the bodies first) and `time`, into `rate`;
-  /// the joints' forces there, by row key, into `forces`.
+  /// the joints' rows there, each with its force in place of its speed, into `forces`.
   void rates(std::span<const Motion> state, double time, std::span<Motion> rate,
-             std::unordered_map<std::uint64_t, double>& forces);
+             std::vector<Row>& forces);
   void put(std::span<const Motion> state, std::span<Body> bodies) const;
   /// The largest component of `error` over its scale tol max(1, |y0|, |y1|).
   double errorNorm(double tolerance) const;
@@ -83,8 +85,14 @@ class AccurateIntegrator {
   std::vector<int> ids_;  // the moving bodies
   std::vector<Motion> y0_, y_, y1_, error_;
   std::array<std::vector<Motion>, 7> k_;
-  std::array<std::unordered_map<std::uint64_t, double>, 7> stage_forces_;
-  std::unordered_map<std::uint64_t, double> impulses_;
+  /// A row's impulse over the frame and its Jacobian weighted by it: the sum over the stages of
+  /// w dt F J, whose division by the impulse gives the row's mean direction over the frame.
+  struct Impulse {
+    double lambda = 0.0;
+    Vec6 Ja = Vec6::Zero(), Jb = Vec6::Zero(), Jc = Vec6::Zero(), Jd = Vec6::Zero();
+  };
+  std::array<std::vector<Row>, 7> stage_rows_;  // each stage's rows, with their force in `speed`
+  std::unordered_map<std::uint64_t, Impulse> impulses_;
   std::vector<Vec3> dv_, dw_;
   std::vector<std::uint8_t> island_ok_;
   ConstrainedDynamics dynamics_;
