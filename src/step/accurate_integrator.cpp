@@ -119,11 +119,9 @@ double AccurateIntegrator::errorNorm(double tolerance) const {
   return std::isfinite(worst) ? worst : kInfinity;
 }
 
-IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
-                                             std::span<Body> bodies, const WorldSettings& settings,
-                                             std::span<const std::uint8_t> accurate, double time,
-                                             double h, int threads, std::span<Row> rows,
-                                             std::span<double> lambda) {
+void AccurateIntegrator::begin(std::span<const std::unique_ptr<Joint>> joints,
+                               std::span<Body> bodies, const WorldSettings& settings,
+                               std::span<const std::uint8_t> accurate, int threads) {
   joints_ = joints;
   bodies_ = bodies;
   settings_ = &settings;
@@ -132,9 +130,6 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
   ids_.clear();
   for (std::size_t i = 0; i < bodies.size(); ++i)
     if (accurate[i]) ids_.push_back(static_cast<int>(i));
-  IntegratorReport report;
-  report.bodies = static_cast<int>(ids_.size());
-  if (ids_.empty()) return report;
   const std::size_t n = ids_.size();
   dv_.resize(bodies.size());
   dw_.resize(bodies.size());
@@ -143,16 +138,100 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
   y_.resize(n);
   y1_.resize(n);
   error_.resize(n);
-  for (std::size_t m = 0; m < n; ++m) {
-    const Body& b = bodies[static_cast<std::size_t>(ids_[m])];
+  impulses_.clear();
+}
+
+void AccurateIntegrator::take() {
+  for (std::size_t m = 0; m < ids_.size(); ++m) {
+    const Body& b = bodies_[static_cast<std::size_t>(ids_[m])];
     const Quat& q = b.orientation();
     y0_[m] = Motion{b.position(), Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()), b.linearVelocity(),
                     b.angularVelocity()};
+    if (!(y0_[m].x.allFinite() && y0_[m].q.allFinite() && y0_[m].v.allFinite() &&
+          y0_[m].w.allFinite()))
+      throw std::domain_error("accurate integrator: the state is not finite");
   }
+}
 
-  const double tolerance = settings.integrator.tolerance;
+double AccurateIntegrator::attempt(double time, double dt) {
+  const std::size_t n = ids_.size();
+  // Stage s's state is y0 + dt sum_j a[s][j] k_j; the last stage's is the fifth-order solution.
+  for (int s = 1; s < dp::kStages; ++s) {
+    std::vector<Motion>& y = s + 1 == dp::kStages ? y1_ : y_;
+    for (std::size_t m = 0; m < n; ++m) {
+      y[m] = y0_[m];
+      for (int j = 0; j < s; ++j) {
+        const double a = dp::a[static_cast<std::size_t>(s)][static_cast<std::size_t>(j)] * dt;
+        if (a == 0.0) continue;
+        const Motion& k = k_[static_cast<std::size_t>(j)][m];
+        y[m].x += a * k.x;
+        y[m].q += a * k.q;
+        y[m].v += a * k.v;
+        y[m].w += a * k.w;
+      }
+    }
+    rates(y, time + dp::c[static_cast<std::size_t>(s)] * dt, k_[static_cast<std::size_t>(s)],
+          stage_rows_[static_cast<std::size_t>(s)]);
+  }
+  // The local error: the fifth-order solution minus the embedded fourth-order one.
+  for (std::size_t m = 0; m < n; ++m) {
+    Motion e;
+    for (int s = 0; s < dp::kStages; ++s) {
+      const double w = dp::e[static_cast<std::size_t>(s)] * dt;
+      const Motion& k = k_[static_cast<std::size_t>(s)][m];
+      e.x += w * k.x;
+      e.q += w * k.q;
+      e.v += w * k.v;
+      e.w += w * k.w;
+    }
+    error_[m] = e;
+  }
+  return errorNorm(settings_->integrator.tolerance);
+}
+
+void AccurateIntegrator::addImpulses(double dt) {
+  for (int s = 0; s < dp::kStages; ++s) {
+    const double w = dp::b[static_cast<std::size_t>(s)] * dt;
+    if (w == 0.0) continue;
+    for (const Row& r : stage_rows_[static_cast<std::size_t>(s)]) {
+      Impulse& i = impulses_[r.key];
+      const double l = w * r.speed;
+      i.lambda += l;
+      i.Ja += l * r.Ja;
+      i.Jb += l * r.Jb;
+      i.Jc += l * r.Jc;
+      i.Jd += l * r.Jd;
+    }
+  }
+}
+
+void AccurateIntegrator::putImpulses(std::span<Row> rows, std::span<double> lambda) const {
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto it = impulses_.find(rows[k].key);
+    if (it == impulses_.end()) continue;
+    const Impulse& i = it->second;
+    lambda[k] = i.lambda;
+    // Without an impulse there is no mean direction: the row keeps its own, at the frame's start.
+    if (!(std::abs(i.lambda) > 1e-300)) continue;
+    Row& r = rows[k];
+    r.Ja = i.Ja / i.lambda;
+    r.Jb = i.Jb / i.lambda;
+    r.Jc = i.Jc / i.lambda;
+    r.Jd = i.Jd / i.lambda;
+  }
+}
+
+IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
+                                             std::span<Body> bodies, const WorldSettings& settings,
+                                             std::span<const std::uint8_t> accurate, double time,
+                                             double h, int threads, std::span<Row> rows,
+                                             std::span<double> lambda) {
+  begin(joints, bodies, settings, accurate, threads);
+  IntegratorReport report;
+  report.bodies = static_cast<int>(ids_.size());
+  if (ids_.empty()) return report;
+  take();
   const SolverSettings& solver = settings.solver;
-  impulses_.clear();
   double t = 0.0;  // into the frame
   // The next step's size: the last frame's proposal, else the whole frame.
   double dt = next_step_ > 0.0 ? std::min(next_step_, h) : h;
@@ -163,42 +242,13 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
       throw std::domain_error(
           fmt::format("accurate integrator: the step size fell to {:.3g} s at t = {} s (the motion "
                       "is too fast or the joints are singular for integrator.tolerance {})",
-                      dt, time + t, tolerance));
+                      dt, time + t, settings.integrator.tolerance));
     const double natural = dt;
     const bool last = t + dt >= h * (1.0 - 1e-12);
     if (last) dt = h - t;
     if (!fresh) rates(y0_, time + t, k_[0], stage_rows_[0]);
     fresh = true;
-    for (int s = 1; s < dp::kStages; ++s) {
-      for (std::size_t m = 0; m < n; ++m) {
-        Motion y = y0_[m];
-        for (int j = 0; j < s; ++j) {
-          const double a = dp::a[static_cast<std::size_t>(s)][static_cast<std::size_t>(j)] * dt;
-          if (a == 0.0) continue;
-          const Motion& k = k_[static_cast<std::size_t>(j)][m];
-          y.x += a * k.x;
-          y.q += a * k.q;
-          y.v += a * k.v;
-          y.w += a * k.w;
-        }
-        (s + 1 == dp::kStages ? y1_ : y_)[m] = y;
-      }
-      rates(s + 1 == dp::kStages ? y1_ : y_, time + t + dp::c[static_cast<std::size_t>(s)] * dt,
-            k_[static_cast<std::size_t>(s)], stage_rows_[static_cast<std::size_t>(s)]);
-    }
-    for (std::size_t m = 0; m < n; ++m) {
-      Motion e;
-      for (int s = 0; s < dp::kStages; ++s) {
-        const double w = dp::e[static_cast<std::size_t>(s)] * dt;
-        const Motion& k = k_[static_cast<std::size_t>(s)][m];
-        e.x += w * k.x;
-        e.q += w * k.q;
-        e.v += w * k.v;
-        e.w += w * k.w;
-      }
-      error_[m] = e;
-    }
-    const double err = errorNorm(tolerance);
+    const double err = attempt(time + t, dt);
     // The next size from the estimate (Hairer, Norsett, Wanner II.4): safety 0.9, between a fifth
     // and five times this one.
     const double grow =
@@ -208,34 +258,13 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
       dt *= std::min(grow, 0.9);
       continue;
     }
-    // Accepted: the fifth-order solution is the last stage's state (first same as last).
-    for (int s = 0; s < dp::kStages; ++s) {
-      const double w = dp::b[static_cast<std::size_t>(s)] * dt;
-      if (w == 0.0) continue;
-      for (const Row& r : stage_rows_[static_cast<std::size_t>(s)]) {
-        Impulse& i = impulses_[r.key];
-        const double l = w * r.speed;
-        i.lambda += l;
-        i.Ja += l * r.Ja;
-        i.Jb += l * r.Jb;
-        i.Jc += l * r.Jc;
-        i.Jd += l * r.Jd;
-      }
-    }
+    addImpulses(dt);
     put(y1_, bodies);
     t = last ? h : t + dt;
     report.error =
         std::max(report.error, projection_.project(joints, bodies, solver, accurate, time + t, 10,
                                                    solver.projection_tolerance, threads));
-    for (std::size_t m = 0; m < n; ++m) {
-      const Body& b = bodies[static_cast<std::size_t>(ids_[m])];
-      const Quat& q = b.orientation();
-      y0_[m] = Motion{b.position(), Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()), b.linearVelocity(),
-                      b.angularVelocity()};
-      if (!(y0_[m].x.allFinite() && y0_[m].q.allFinite() && y0_[m].v.allFinite() &&
-            y0_[m].w.allFinite()))
-        throw std::domain_error("accurate integrator: the state is not finite");
-    }
+    take();
     // The next step starts from the rates at the projected state: the last stage's, taken before
     // the projection, made the four-bar through its singular positions reject steps and cost 4x.
     fresh = false;
@@ -244,18 +273,7 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
     dt = last && dt < natural ? std::max(natural, dt * grow) : dt * grow;
   }
   next_step_ = dt;
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto it = impulses_.find(rows[k].key);
-    if (it == impulses_.end()) continue;
-    const Impulse& i = it->second;
-    lambda[k] = i.lambda;
-    if (i.lambda == 0.0) continue;  // no direction to take: the row's at the frame's start
-    Row& r = rows[k];
-    r.Ja = i.Ja / i.lambda;
-    r.Jb = i.Jb / i.lambda;
-    r.Jc = i.Jc / i.lambda;
-    r.Jd = i.Jd / i.lambda;
-  }
+  putImpulses(rows, lambda);
   return report;
 }
 

@@ -72,6 +72,18 @@ class AccurateIntegrator {
   void rates(std::span<const Motion> state, double time, std::span<Motion> rate,
              std::vector<Row>& forces);
   void put(std::span<const Motion> state, std::span<Body> bodies) const;
+  /// Lends the frame's world to the steps below and sizes the buffers.
+  void begin(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+             const WorldSettings& settings, std::span<const std::uint8_t> accurate, int threads);
+  /// y0 from the bodies; throws std::domain_error when it is not finite.
+  void take();
+  /// One Runge-Kutta step of length dt from y0 (k_[0] holding its rates) at `time`: the stages,
+  /// the fifth-order solution in y1, and the local error's norm against the tolerance.
+  double attempt(double time, double dt);
+  /// Adds an accepted step's share of the joints' impulses (and their weighted directions).
+  void addImpulses(double dt);
+  /// The frame's impulses onto the rows (by key): lambda and each row's mean direction.
+  void putImpulses(std::span<Row> rows, std::span<double> lambda) const;
   /// The largest component of `error` over its scale tol max(1, |y0|, |y1|).
   double errorNorm(double tolerance) const;
 
