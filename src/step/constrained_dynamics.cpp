@@ -138,18 +138,25 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
   for (std::size_t i = 0; i < bodies.size(); ++i)
     if (moving[i]) bodies[i].setPose(poses_[i]);
 
-  index_.clear();
-  for (std::size_t k = 0; k < before_.size(); ++k) index_.emplace(before_[k].key, k);
+  // The three lists follow the joints' order: a row's match is found from just past the last
+  // match (a row that comes or goes between them, if any, is passed over without losing the place).
+  const auto match = [](const std::vector<Row>& list, std::size_t& cursor, std::uint64_t key) {
+    for (std::size_t j = cursor; j < list.size(); ++j)
+      if (list[j].key == key) {
+        cursor = j + 1;
+        return j;
+      }
+    return list.size();
+  };
   curvature_.assign(rows_.size(), 0.0);
-  std::size_t k_after = 0;
+  std::size_t next_before = 0, next_after = 0;
   for (std::size_t k = 0; k < rows_.size(); ++k) {
     if (isForceRow(rows_[k])) continue;
-    const auto b = index_.find(rows_[k].key);
-    // The lists follow the joints' order: the matching row of `after_` is at or past k_after.
-    while (k_after < after_.size() && after_[k_after].key != rows_[k].key) ++k_after;
-    if (b == index_.end() || k_after == after_.size()) continue;  // a row that comes or goes
-    const Row& lo = before_[b->second];
-    const Row& hi = after_[k_after];
+    const std::size_t b = match(before_, next_before, rows_[k].key);
+    const std::size_t a = match(after_, next_after, rows_[k].key);
+    if (b == before_.size() || a == after_.size()) continue;  // a row that comes or goes
+    const Row& lo = before_[b];
+    const Row& hi = after_[a];
     Row d = hi;
     d.Ja -= lo.Ja;
     d.Jb -= lo.Jb;

@@ -20,7 +20,6 @@
 #include <cstdint>
 #include <memory>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 namespace linx::step {
@@ -57,7 +56,6 @@ class ConstrainedDynamics {
 
   std::vector<Row> all_, rows_, before_, after_;
   std::vector<double> curvature_, lambda_;
-  std::unordered_map<std::uint64_t, std::size_t> index_;
   std::vector<Pose> poses_;
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
