@@ -21,6 +21,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -110,10 +111,32 @@ class SparseFreeRows final : public FreeRows {
 
  private:
   using SpMat = Eigen::SparseMatrix<double>;
-  SpMat a_;                      // A, full symmetric
+  /// A row's block on one body: the row and which of its bodies (0 to 3: a, b, c, d).
+  struct Touch {
+    int row;
+    int block;
+  };
+  /// Whether the rows act on the bodies the pattern was found for (the rows' bodies, in order).
+  bool samePattern(const Problem& p) const;
+  /// The pattern of A and, for each product of two rows' blocks on a shared body, its place
+  /// among A's values.
+  void findPattern(const Problem& p);
+  /// Analyzes the pattern of `m` for ldlt_, unless it is the one analyzed last.
+  void analyze(const SpMat& m);
+  /// Solves with every row free: A_FF = A, already assembled (the accurate integrator's case).
+  void solveAll(const Problem& p, const Eigen::VectorXd& b, double max_diag);
+
+  SpMat a_;                                 // A, full symmetric
+  std::vector<std::array<int, 4>> bodies_;  // the rows' bodies the pattern is for
+  std::vector<int> touch_start_;            // body -> its first touch in touches_
+  std::vector<Touch> touches_;              // the rows' blocks, by body
+  std::vector<int> diagonal_, products_;    // places among A's values (of the rows' cfm, products)
   std::vector<int> free_index_;  // row -> its place among the free rows, -1 for a held row
+  SpMat aff_, shifted_;          // A_FF; A_FF with the diagonal shift
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt_;
   std::vector<int> outer_, inner_;  // the pattern ldlt_ analyzed last
+  Eigen::VectorXd rhs_, x_, r_, correction_;
+  bool all_free_ = false;  // the last solve's A_FF is A
 };
 
 }  // namespace linx::solver

@@ -98,6 +98,36 @@ void placeCoupled(Row& r, int c, int d) {
 }
 }  // namespace
 
+int fillJoint(std::span<const std::unique_ptr<Joint>> joints, std::size_t ji,
+              std::span<const Body> bodies, const JointContext& ctx, std::span<Row> slots) {
+  const Joint& j = *joints[ji];
+  for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
+  const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());
+  const std::array<BodyId, 2> more = j.coupledBodies();
+  const int c = solverIndex(bodies, more[0]), d = solverIndex(bodies, more[1]);
+  if (a < 0 && b < 0 && c < 0 && d < 0) return 0;  // between static bodies: nothing can move
+  const int n = j.fill(ctx, slots);
+  if (n < 0 || n > j.maxRows())
+    throw std::logic_error(fmt::format("joints[{}] ({}): wrote {} rows, more than its maxRows() {}",
+                                       ji, j.name(), n, j.maxRows()));
+  for (int k = 0; k < n; ++k) {
+    Row& r = slots[static_cast<std::size_t>(k)];
+    r.body_a = a;
+    r.body_b = b;
+    if (c >= 0 || d >= 0) placeCoupled(r, c, d);
+    r.key = (static_cast<std::uint64_t>(ji + 1) << 8) | (r.key & 0xff);
+    if (r.normal >= n)
+      throw std::logic_error(fmt::format("joints[{}] ({}): friction row refers to row {} of {}", ji,
+                                         j.name(), r.normal, n));
+    if (!finite(r))
+      throw std::domain_error(
+          fmt::format("joints[{}] ({}): its constraint rows are not finite (degenerate geometry, "
+                      "or masses, forces or speeds too large for a double)",
+                      ji, j.name()));
+  }
+  return n;
+}
+
 void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                   const SolverSettings& settings, double h, double time, std::vector<Row>& rows,
                   std::span<const StartVelocity> start) {
@@ -107,43 +137,17 @@ void assembleRows(std::span<const std::unique_ptr<Joint>> joints, std::span<cons
     if (j->enabled()) capacity += static_cast<std::size_t>(j->maxRows());
   // 2. allocate (the vector keeps its capacity across steps: no allocation after warm-up)
   rows.resize(capacity);
-  // 3. fill
+  // 3. fill and 4. verify, joint by joint
   std::size_t used = 0;
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
     if (!j.enabled()) continue;  // broken or switched off: no rows
-    const JointContext ctx = contextOf(bodies, j, settings, h, time, start);
     const auto slots = std::span<Row>(rows).subspan(used, static_cast<std::size_t>(j.maxRows()));
-    for (Row& r : slots) r = Row{.erp = ctx.erp, .cfm = ctx.cfm};
-    const int a = solverIndex(bodies, j.body1()), b = solverIndex(bodies, j.body2());
-    const std::array<BodyId, 2> more = j.coupledBodies();
-    const int c = solverIndex(bodies, more[0]), d = solverIndex(bodies, more[1]);
-    if (a < 0 && b < 0 && c < 0 && d < 0) continue;  // between static bodies: nothing can move
-    const int n = j.fill(ctx, slots);
-    // 4. verify
-    if (n < 0 || n > j.maxRows())
-      throw std::logic_error(
-          fmt::format("joints[{}] ({}): wrote {} rows, more than its maxRows() {}", ji, j.name(), n,
-                      j.maxRows()));
-    for (int k = 0; k < n; ++k) {
-      Row& r = slots[static_cast<std::size_t>(k)];
-      r.body_a = a;
-      r.body_b = b;
-      if (c >= 0 || d >= 0) placeCoupled(r, c, d);
-      r.key = (static_cast<std::uint64_t>(ji + 1) << 8) | (r.key & 0xff);
-      if (r.normal >=
-          0) {  // a friction row: its normal row's index, from the joint's to the list's
-        if (r.normal >= n)
-          throw std::logic_error(fmt::format("joints[{}] ({}): friction row refers to row {} of {}",
-                                             ji, j.name(), r.normal, n));
-        r.normal += static_cast<int>(used);
-      }
-      if (!finite(r))
-        throw std::domain_error(
-            fmt::format("joints[{}] ({}): its constraint rows are not finite (degenerate geometry, "
-                        "or masses, forces or speeds too large for a double)",
-                        ji, j.name()));
-    }
+    const int n =
+        fillJoint(joints, ji, bodies, contextOf(bodies, j, settings, h, time, start), slots);
+    // A friction row's normal row: its index from the joint's to the list's.
+    for (Row& r : slots.first(static_cast<std::size_t>(n)))
+      if (r.normal >= 0) r.normal += static_cast<int>(used);
     used += static_cast<std::size_t>(n);
   }
   rows.resize(used);

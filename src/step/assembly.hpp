@@ -30,6 +30,12 @@ void keepStartVelocities(std::span<const Body> bodies, std::vector<StartVelocity
 JointContext contextOf(std::span<const Body> bodies, const Joint& j, const SolverSettings& settings,
                        double h, double time, std::span<const StartVelocity> start = {});
 
+/// Joint `ji`'s rows from `ctx` into `slots` (its maxRows(), each blanked first), as assembleRows
+/// places them: on the solver bodies, keyed, verified; friction rows' `normal` stays the joint's
+/// own index. Returns how many, 0 for a joint between static bodies.
+int fillJoint(std::span<const std::unique_ptr<Joint>> joints, std::size_t ji,
+              std::span<const Body> bodies, const JointContext& ctx, std::span<Row> slots);
+
 /// Assembles the rows of all joints for a step of length h starting at `time` (motors' targets).
 /// Solver body indices are body indices, -1 for the world and for static bodies; joints between two
 /// such are skipped (nothing moves). Row keys are unique and stable across steps; friction rows'

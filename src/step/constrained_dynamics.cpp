@@ -1,7 +1,7 @@
 #include "step/constrained_dynamics.hpp"
 
-#include "dynamics/integrator.hpp"
 #include "joints/row_parts.hpp"
+#include "math/rotation.hpp"
 #include "step/assembly.hpp"
 
 #include <algorithm>
@@ -17,6 +17,10 @@ namespace {
 /// takes at the rows' time (a force or a motor's target rate at time + h / 2 or time + h); the
 /// impulses of coordinate forces and the bounds of drives are divided by it.
 constexpr double kAssemblyStep = 1e-9;
+
+/// The regularization of the equality rows in the acceleration solve, relative to their
+/// J M^-1 J^T.
+constexpr double kRegularization = 1e-11;
 
 /// A coordinate force: a motor row whose bounds pin its impulse (Joint::setForce, "force").
 bool isForceRow(const Row& r) {
@@ -41,6 +45,64 @@ std::optional<std::pair<double, double>> driveLaw(const Row& r,
   return std::nullopt;  // armature
 }
 
+bool isMoving(BodyId id, std::span<const std::uint8_t> moving) {
+  return !id.isWorld() && moving[static_cast<std::size_t>(id.index)] != 0;
+}
+
+/// Whether a joint acts on a moving body (else none of its rows does).
+bool touchesMoving(const Joint& j, std::span<const std::uint8_t> moving) {
+  const std::array<BodyId, 2> more = j.coupledBodies();
+  return isMoving(j.body1(), moving) || isMoving(j.body2(), moving) || isMoving(more[0], moving) ||
+         isMoving(more[1], moving);
+}
+
+/// `ctx` with the joint's moving bodies moved along their velocities for dt, at time + dt.
+JointContext shifted(const JointContext& ctx, const Joint& j, std::span<const std::uint8_t> moving,
+                     double dt) {
+  JointContext s = ctx;
+  s.time += dt;
+  const auto move = [&](BodyId id, BodyState& state) {
+    if (!isMoving(id, moving)) return;
+    state.pose.position += dt * state.v;
+    state.pose.orientation = math::integrate(state.pose.orientation, state.w, dt);
+  };
+  move(j.body1(), s.b1);
+  move(j.body2(), s.b2);
+  const std::array<BodyId, 2> more = j.coupledBodies();
+  move(more[0], s.more[0]);
+  move(more[1], s.more[1]);
+  return s;
+}
+
+/// The difference's time step: the fastest moving body turns or moves 1e-5 (rad, or m over a
+/// metre) along it. The central difference's truncation error is then about 1e-10 of the curvature
+/// and its round-off about 1e-16 / 1e-5 of the rows' size times the speed.
+double differenceStep(std::span<const Body> bodies, std::span<const std::uint8_t> moving) {
+  double speed = 1.0;
+  for (std::size_t i = 0; i < bodies.size(); ++i)
+    if (moving[i])
+      speed =
+          std::max({speed, bodies[i].linearVelocity().norm(), bodies[i].angularVelocity().norm()});
+  return 1e-5 / speed;
+}
+
+/// (J_after - J_before) u with the bodies' velocities: the change of a row's rate between two of
+/// its fills (on the same bodies).
+double rateChange(const Row& after, const Row& before, std::span<const Body> bodies) {
+  double change = 0.0;
+  const auto add = [&](int body, const Vec6& a, const Vec6& b) {
+    if (body < 0) return;
+    const Body& x = bodies[static_cast<std::size_t>(body)];
+    const Vec6 d = a - b;
+    change += d.head<3>().dot(x.linearVelocity()) + d.tail<3>().dot(x.angularVelocity());
+  };
+  add(after.body_a, after.Ja, before.Ja);
+  add(after.body_b, after.Jb, before.Jb);
+  add(after.body_c, after.Jc, before.Jc);
+  add(after.body_d, after.Jd, before.Jd);
+  return change;
+}
+
 }  // namespace
 
 bool actsOnMoving(const Row& r, std::span<const std::uint8_t> moving) {
@@ -58,10 +120,16 @@ bool actsOnMoving(const Row& r, std::span<const std::uint8_t> moving) {
 void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                       const SolverSettings& settings, std::span<const std::uint8_t> moving,
                       double time, std::vector<Row>& all, std::vector<Row>& out) {
-  assembleRows(joints, bodies, settings, kAssemblyStep, time, all);
   out.clear();
-  for (const Row& r : all)
-    if (holdsExactly(r, settings) && actsOnMoving(r, moving)) out.push_back(r);
+  for (std::size_t ji = 0; ji < joints.size(); ++ji) {
+    const Joint& j = *joints[ji];
+    if (!j.enabled() || !touchesMoving(j, moving)) continue;
+    all.resize(static_cast<std::size_t>(j.maxRows()));
+    const int n =
+        fillJoint(joints, ji, bodies, contextOf(bodies, j, settings, kAssemblyStep, time), all);
+    for (const Row& r : std::span<const Row>(all).first(static_cast<std::size_t>(n)))
+      if (holdsExactly(r, settings) && actsOnMoving(r, moving)) out.push_back(r);
+  }
 }
 
 bool actsAsForce(const Row& row, std::span<const std::unique_ptr<Joint>> joints) {
@@ -87,82 +155,76 @@ double rowSpeed(const Row& row, std::span<const Body> bodies) {
 
 void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
                                  std::span<const Body> bodies, const SolverSettings& settings,
-                                 std::span<const std::uint8_t> moving, double time,
-                                 std::vector<Row>& out) {
-  // h scales only what these rows do not use (a motor's bound: a force row's impulse over h = 1).
-  assembleRows(joints, bodies, settings, kAssemblyStep, time, all_);
-  out.clear();
-  for (const Row& r : all_) {
-    if (!actsOnMoving(r, moving)) continue;
-    if (holdsExactly(r, settings)) {
-      out.push_back(r);
-    } else if (isForceRow(r)) {
-      Row& f = out.emplace_back(r);
-      f.lo = f.hi = r.lo / kAssemblyStep;
-    } else if (const auto law = driveLaw(r, joints)) {
-      // A drive's force at the bodies' state, as a coordinate force.
-      const auto [stiffness, damping] = *law;
-      const double force = -stiffness * r.phi - damping * (rowSpeed(r, bodies) - r.speed);
-      Row& f = out.emplace_back(r);
-      f.kind = RowKind::Motor;
-      f.lo = f.hi = std::clamp(force, r.lo / kAssemblyStep, r.hi / kAssemblyStep);
+                                 std::span<const std::uint8_t> moving, double time) {
+  const double eps = differenceStep(bodies, moving);
+  rows_.clear();
+  forces_.clear();
+  curvature_.clear();
+  for (std::size_t ji = 0; ji < joints.size(); ++ji) {
+    const Joint& j = *joints[ji];
+    if (!j.enabled() || !touchesMoving(j, moving)) continue;
+    // h scales only what these rows do not use (a motor's bound: a force row's impulse over h).
+    const JointContext ctx = contextOf(bodies, j, settings, kAssemblyStep, time);
+    slots_.resize(static_cast<std::size_t>(j.maxRows()));
+    const auto rows = std::span<const Row>(slots_).first(
+        static_cast<std::size_t>(fillJoint(joints, ji, bodies, ctx, slots_)));
+    bool equalities = false;
+    for (const Row& r : rows) {
+      if (!actsOnMoving(r, moving)) continue;
+      if (holdsExactly(r, settings)) {
+        rows_.push_back(r);
+        equalities = true;
+      } else if (isForceRow(r)) {
+        Row& f = forces_.emplace_back(r);
+        f.lo = f.hi = r.lo / kAssemblyStep;
+      } else if (const auto law = driveLaw(r, joints)) {
+        // A drive's force at the bodies' state, as a coordinate force.
+        const auto [stiffness, damping] = *law;
+        const double force = -stiffness * r.phi - damping * (rowSpeed(r, bodies) - r.speed);
+        Row& f = forces_.emplace_back(r);
+        f.kind = RowKind::Motor;
+        f.lo = f.hi = std::clamp(force, r.lo / kAssemblyStep, r.hi / kAssemblyStep);
+      }
     }
+    if (equalities) measureCurvature(joints, ji, bodies, settings, moving, ctx, rows, eps);
   }
+  rows_.insert(rows_.end(), forces_.begin(), forces_.end());
 }
 
 void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint>> joints,
-                                           std::span<Body> bodies, const SolverSettings& settings,
-                                           std::span<const std::uint8_t> moving, double time) {
-  // The time step of the difference: the fastest body turns or moves 1e-5 (rad, or m over a
-  // metre) along it. The difference's truncation error is then about 1e-10 of the curvature and
-  // its round-off about 1e-16 / 1e-5 of the rows' size times the speed.
-  double speed = 1.0;
-  for (std::size_t i = 0; i < bodies.size(); ++i)
-    if (moving[i])
-      speed =
-          std::max({speed, bodies[i].linearVelocity().norm(), bodies[i].angularVelocity().norm()});
-  const double eps = 1e-5 / speed;
-  poses_.resize(bodies.size());
-  for (std::size_t i = 0; i < bodies.size(); ++i)
-    if (moving[i]) poses_[i] = bodies[i].pose();
-  const auto shift = [&](double dt, std::vector<Row>& out) {
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      if (!moving[i]) continue;
-      bodies[i].setPose(poses_[i]);
-      dynamics::integratePosition(bodies[i], dt);
-    }
-    gather(joints, bodies, settings, moving, time + dt, out);
+                                           std::size_t ji, std::span<const Body> bodies,
+                                           const SolverSettings& settings,
+                                           std::span<const std::uint8_t> moving,
+                                           const JointContext& ctx, std::span<const Row> rows,
+                                           double eps) {
+  const Joint& j = *joints[ji];
+  const auto fillAt = [&](double dt, std::vector<Row>& out) {
+    out.resize(static_cast<std::size_t>(j.maxRows()));
+    out.resize(
+        static_cast<std::size_t>(fillJoint(joints, ji, bodies, shifted(ctx, j, moving, dt), out)));
   };
-  shift(-eps, before_);
-  shift(eps, after_);
-  for (std::size_t i = 0; i < bodies.size(); ++i)
-    if (moving[i]) bodies[i].setPose(poses_[i]);
-
-  // The three lists follow the joints' order: a row's match is found from just past the last
+  fillAt(-eps, before_);
+  fillAt(eps, after_);
+  // The three lists are in the joint's order: a row's match is found from just past the last
   // match (a row that comes or goes between them, if any, is passed over without losing the place).
   const auto match = [](const std::vector<Row>& list, std::size_t& cursor, std::uint64_t key) {
-    for (std::size_t j = cursor; j < list.size(); ++j)
-      if (list[j].key == key) {
-        cursor = j + 1;
-        return j;
+    for (std::size_t k = cursor; k < list.size(); ++k)
+      if (list[k].key == key) {
+        cursor = k + 1;
+        return k;
       }
     return list.size();
   };
-  curvature_.assign(rows_.size(), 0.0);
   std::size_t next_before = 0, next_after = 0;
-  for (std::size_t k = 0; k < rows_.size(); ++k) {
-    if (isForceRow(rows_[k])) continue;
-    const std::size_t b = match(before_, next_before, rows_[k].key);
-    const std::size_t a = match(after_, next_after, rows_[k].key);
-    if (b == before_.size() || a == after_.size()) continue;  // a row that comes or goes
-    const Row& lo = before_[b];
-    const Row& hi = after_[a];
-    Row d = hi;
-    d.Ja -= lo.Ja;
-    d.Jb -= lo.Jb;
-    d.Jc -= lo.Jc;
-    d.Jd -= lo.Jd;
-    curvature_[k] = rowSpeed(d, bodies) / (2.0 * eps);
+  for (const Row& r : rows) {
+    if (!actsOnMoving(r, moving) || !holdsExactly(r, settings)) continue;
+    const std::size_t b = match(before_, next_before, r.key);
+    const std::size_t a = match(after_, next_after, r.key);
+    if (b == before_.size() || a == after_.size()) {  // a row that comes or goes
+      curvature_.push_back(0.0);
+      continue;
+    }
+    curvature_.push_back(rateChange(after_[a], before_[b], bodies) / (2.0 * eps));
   }
 }
 
@@ -170,12 +232,9 @@ void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> 
                                         std::span<Body> bodies, const WorldSettings& settings,
                                         std::span<const std::uint8_t> moving, double time,
                                         int threads, std::span<Vec3> dv, std::span<Vec3> dw) {
-  gather(joints, bodies, settings.solver, moving, time, rows_);
   // The equality rows first (they are solved), then the coordinate forces (they are applied).
-  const auto forces = std::stable_partition(rows_.begin(), rows_.end(),
-                                            [](const Row& r) { return !isForceRow(r); });
-  const auto equalities = static_cast<std::size_t>(forces - rows_.begin());
-  measureCurvature(joints, bodies, settings.solver, moving, time);
+  gather(joints, bodies, settings.solver, moving, time);
+  const std::size_t equalities = curvature_.size();
 
   // The unconstrained accelerations M^-1 f, with the coordinate forces' J^T F.
   solver_bodies_.resize(bodies.size());
@@ -206,19 +265,28 @@ void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> 
   }
 
   // J a = -(dJ/dt) u on the equality rows: a velocity solve of unit length with the accelerations
-  // in place of the velocities, without error reduction or regularization. A coordinate force's
-  // row takes no part in it (its bounds pin its impulse: it stays at its force).
-  for (std::size_t k = 0; k < rows_.size(); ++k) {
+  // in place of the velocities, without error reduction, and regularized by 1e-11 of each row's
+  // J M^-1 J^T: near a singular position (a four-bar at its dead point) the rows' small pivots
+  // would otherwise amplify round-off and the curvature's difference error into accelerations
+  // that jump from stage to stage, and the error control would cut the step to a hundredth (the
+  // projection after each step closes what the regularization lets through). A coordinate
+  // force's row takes no part in it (its bounds pin its impulse: it stays at its force).
+  for (std::size_t k = 0; k < equalities; ++k) {
     Row& r = rows_[k];
-    if (isForceRow(r)) continue;
     r.speed = -curvature_[k];
     r.phi = 0.0;
     r.erp = 0.0;
-    r.cfm = 0.0;
+    double diagonal = 0.0;
+    r.forEachBlock([&](int body, const Vec6& j) {
+      if (body < 0) return;
+      const solver::SolverBody& s = solver_bodies_[static_cast<std::size_t>(body)];
+      diagonal +=
+          s.inv_mass * j.head<3>().squaredNorm() + j.tail<3>().dot(s.inv_inertia * j.tail<3>());
+    });
+    r.cfm = kRegularization * diagonal;
   }
   lambda_.assign(rows_.size(), 0.0);
-  for (std::size_t k = 0; k < rows_.size(); ++k)
-    if (isForceRow(rows_[k])) lambda_[k] = rows_[k].lo;
+  for (std::size_t k = equalities; k < rows_.size(); ++k) lambda_[k] = rows_[k].lo;
   SolverSettings exact = settings.solver;
   exact.type = SolverType::Exact;
   solver::Problem problem{std::span<const Row>(rows_).first(equalities), solver_bodies_,

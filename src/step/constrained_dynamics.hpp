@@ -44,19 +44,21 @@ class ConstrainedDynamics {
   std::span<const double> forces() const { return lambda_; }
 
  private:
-  /// The joints' equality rows on moving bodies at the bodies' current poses, into `out`.
+  /// The joints' rows on moving bodies at the bodies' current state, into rows_: the equalities
+  /// (with their curvature in curvature_), then the coordinate forces and the drives' forces as
+  /// coordinate forces (lo = hi = the force).
   void gather(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
-              const SolverSettings& settings, std::span<const std::uint8_t> moving, double time,
-              std::vector<Row>& out);
-  /// Each row's (dJ/dt) u, by rows gathered with the bodies moved by -eps and +eps along their
-  /// velocities.
-  void measureCurvature(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
-                        const SolverSettings& settings, std::span<const std::uint8_t> moving,
-                        double time);
+              const SolverSettings& settings, std::span<const std::uint8_t> moving, double time);
+  /// The (dJ/dt) u of joint `ji`'s rows `rows` (filled from `ctx`) that hold exactly, appended to
+  /// curvature_: by the joint's rows filled again with its moving bodies moved by -eps and +eps
+  /// along their velocities.
+  void measureCurvature(std::span<const std::unique_ptr<Joint>> joints, std::size_t ji,
+                        std::span<const Body> bodies, const SolverSettings& settings,
+                        std::span<const std::uint8_t> moving, const JointContext& ctx,
+                        std::span<const Row> rows, double eps);
 
-  std::vector<Row> all_, rows_, before_, after_;
+  std::vector<Row> rows_, forces_, slots_, before_, after_;
   std::vector<double> curvature_, lambda_;
-  std::vector<Pose> poses_;
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
 };
