@@ -14,6 +14,19 @@
 
 namespace linx::test {
 
+/// Whether the tests run under AddressSanitizer, ten to fifteen times slower: the longest runs
+/// (the accurate integrator's) check a shorter span there and their whole span in the plain build.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
+/// A run's length: `full` in the plain build, `sanitized` under the sanitizers.
+inline double runLength(double full, double sanitized) {
+  return kSanitized ? sanitized : full;
+}
+
 /// Complete elliptic integral of the first kind K(k), k the modulus, by the arithmetic-geometric
 /// mean: K(k) = pi / (2 AGM(1, sqrt(1 - k^2))).
 inline double ellipticK(double k) {

@@ -124,10 +124,12 @@ void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
     if (!j.enabled() || !touchesMoving(j, moving)) continue;
-    all.resize(static_cast<std::size_t>(j.maxRows()));
+    const auto most = static_cast<std::size_t>(j.maxRows());
+    if (all.size() < most) all.resize(most);
+    const auto slots = std::span<Row>(all).first(most);
     const int n =
-        fillJoint(joints, ji, bodies, contextOf(bodies, j, settings, kAssemblyStep, time), all);
-    for (const Row& r : std::span<const Row>(all).first(static_cast<std::size_t>(n)))
+        fillJoint(joints, ji, bodies, contextOf(bodies, j, settings, kAssemblyStep, time), slots);
+    for (const Row& r : std::span<const Row>(slots).first(static_cast<std::size_t>(n)))
       if (holdsExactly(r, settings) && actsOnMoving(r, moving)) out.push_back(r);
   }
 }
@@ -165,9 +167,11 @@ void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
     if (!j.enabled() || !touchesMoving(j, moving)) continue;
     // h scales only what these rows do not use (a motor's bound: a force row's impulse over h).
     const JointContext ctx = contextOf(bodies, j, settings, kAssemblyStep, time);
-    slots_.resize(static_cast<std::size_t>(j.maxRows()));
-    const auto rows = std::span<const Row>(slots_).first(
-        static_cast<std::size_t>(fillJoint(joints, ji, bodies, ctx, slots_)));
+    const auto most = static_cast<std::size_t>(j.maxRows());
+    if (slots_.size() < most) slots_.resize(most);
+    const auto slots = std::span<Row>(slots_).first(most);
+    const auto rows = std::span<const Row>(slots).first(
+        static_cast<std::size_t>(fillJoint(joints, ji, bodies, ctx, slots)));
     bool equalities = false;
     for (const Row& r : rows) {
       if (!actsOnMoving(r, moving)) continue;
@@ -198,16 +202,19 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
                                            const JointContext& ctx, std::span<const Row> rows,
                                            double eps) {
   const Joint& j = *joints[ji];
-  const auto fillAt = [&](double dt, std::vector<Row>& out) {
-    out.resize(static_cast<std::size_t>(j.maxRows()));
-    out.resize(
-        static_cast<std::size_t>(fillJoint(joints, ji, bodies, shifted(ctx, j, moving, dt), out)));
+  // (The scratch lists only grow: a row is built once, and blanked by fillJoint.)
+  const auto fillAt = [&](double dt, std::vector<Row>& scratch) {
+    const auto most = static_cast<std::size_t>(j.maxRows());
+    if (scratch.size() < most) scratch.resize(most);
+    const auto slots = std::span<Row>(scratch).first(most);
+    return std::span<const Row>(slots).first(static_cast<std::size_t>(
+        fillJoint(joints, ji, bodies, shifted(ctx, j, moving, dt), slots)));
   };
-  fillAt(-eps, before_);
-  fillAt(eps, after_);
+  const std::span<const Row> before = fillAt(-eps, before_);
+  const std::span<const Row> after = fillAt(eps, after_);
   // The three lists are in the joint's order: a row's match is found from just past the last
   // match (a row that comes or goes between them, if any, is passed over without losing the place).
-  const auto match = [](const std::vector<Row>& list, std::size_t& cursor, std::uint64_t key) {
+  const auto match = [](std::span<const Row> list, std::size_t& cursor, std::uint64_t key) {
     for (std::size_t k = cursor; k < list.size(); ++k)
       if (list[k].key == key) {
         cursor = k + 1;
@@ -218,13 +225,13 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
   std::size_t next_before = 0, next_after = 0;
   for (const Row& r : rows) {
     if (!actsOnMoving(r, moving) || !holdsExactly(r, settings)) continue;
-    const std::size_t b = match(before_, next_before, r.key);
-    const std::size_t a = match(after_, next_after, r.key);
-    if (b == before_.size() || a == after_.size()) {  // a row that comes or goes
+    const std::size_t b = match(before, next_before, r.key);
+    const std::size_t a = match(after, next_after, r.key);
+    if (b == before.size() || a == after.size()) {  // a row that comes or goes
       curvature_.push_back(0.0);
       continue;
     }
-    curvature_.push_back(rateChange(after_[a], before_[b], bodies) / (2.0 * eps));
+    curvature_.push_back(rateChange(after[a], before[b], bodies) / (2.0 * eps));
   }
 }
 
