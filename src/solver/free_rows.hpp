@@ -123,8 +123,6 @@ class SparseFreeRows final : public FreeRows {
   void findPattern(const Problem& p);
   /// Analyzes the pattern of `m` for ldlt_, unless it is the one analyzed last.
   void analyze(const SpMat& m);
-  /// Solves with every row free: A_FF = A, already assembled (the accurate integrator's case).
-  void solveAll(const Problem& p, const Eigen::VectorXd& b, double max_diag);
 
   SpMat a_;                                 // A, full symmetric
   std::vector<std::array<int, 4>> bodies_;  // the rows' bodies the pattern is for

@@ -86,6 +86,14 @@ double differenceStep(std::span<const Body> bodies, std::span<const std::uint8_t
   return 1e-5 / speed;
 }
 
+/// Joint j's maxRows() slots in `scratch`, which only grows (a row is built once; fillJoint blanks
+/// the slots it fills).
+std::span<Row> slotsFor(const Joint& j, std::vector<Row>& scratch) {
+  const auto most = static_cast<std::size_t>(j.maxRows());
+  if (scratch.size() < most) scratch.resize(most);
+  return std::span<Row>(scratch).first(most);
+}
+
 /// (J_after - J_before) u with the bodies' velocities: the change of a row's rate between two of
 /// its fills (on the same bodies).
 double rateChange(const Row& after, const Row& before, std::span<const Body> bodies) {
@@ -124,9 +132,7 @@ void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
     if (!j.enabled() || !touchesMoving(j, moving)) continue;
-    const auto most = static_cast<std::size_t>(j.maxRows());
-    if (all.size() < most) all.resize(most);
-    const auto slots = std::span<Row>(all).first(most);
+    const std::span<Row> slots = slotsFor(j, all);
     const int n =
         fillJoint(joints, ji, bodies, contextOf(bodies, j, settings, kAssemblyStep, time), slots);
     for (const Row& r : std::span<const Row>(slots).first(static_cast<std::size_t>(n)))
@@ -167,9 +173,7 @@ void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
     if (!j.enabled() || !touchesMoving(j, moving)) continue;
     // h scales only what these rows do not use (a motor's bound: a force row's impulse over h).
     const JointContext ctx = contextOf(bodies, j, settings, kAssemblyStep, time);
-    const auto most = static_cast<std::size_t>(j.maxRows());
-    if (slots_.size() < most) slots_.resize(most);
-    const auto slots = std::span<Row>(slots_).first(most);
+    const std::span<Row> slots = slotsFor(j, slots_);
     const auto rows = std::span<const Row>(slots).first(
         static_cast<std::size_t>(fillJoint(joints, ji, bodies, ctx, slots)));
     bool equalities = false;
@@ -202,11 +206,8 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
                                            const JointContext& ctx, std::span<const Row> rows,
                                            double eps) {
   const Joint& j = *joints[ji];
-  // (The scratch lists only grow: a row is built once, and blanked by fillJoint.)
   const auto fillAt = [&](double dt, std::vector<Row>& scratch) {
-    const auto most = static_cast<std::size_t>(j.maxRows());
-    if (scratch.size() < most) scratch.resize(most);
-    const auto slots = std::span<Row>(scratch).first(most);
+    const std::span<Row> slots = slotsFor(j, scratch);
     return std::span<const Row>(slots).first(static_cast<std::size_t>(
         fillJoint(joints, ji, bodies, shifted(ctx, j, moving, dt), slots)));
   };
@@ -236,7 +237,7 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
 }
 
 void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> joints,
-                                        std::span<Body> bodies, const WorldSettings& settings,
+                                        std::span<const Body> bodies, const WorldSettings& settings,
                                         std::span<const std::uint8_t> moving, double time,
                                         int threads, std::span<Vec3> dv, std::span<Vec3> dw) {
   // The equality rows first (they are solved), then the coordinate forces (they are applied).

@@ -33,8 +33,8 @@ class ConstrainedDynamics {
   /// The accelerations of the bodies flagged in `moving` at their current state and `time`: their
   /// rates of linear and angular velocity (world frame) in `dv` and `dw` (one per body; the others
   /// are left alone). The joints' rows that act on moving bodies must join them only to moving or
-  /// still bodies. Moves the moving bodies for the curvature and puts them back exactly.
-  void accelerations(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+  /// still bodies.
+  void accelerations(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                      const WorldSettings& settings, std::span<const std::uint8_t> moving,
                      double time, int threads, std::span<Vec3> dv, std::span<Vec3> dw);
 
