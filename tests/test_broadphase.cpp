@@ -2,6 +2,8 @@
 // prune (checked against the O(n^2) all-pairs reference on random, touching, identical,
 // degenerate and moving boxes), plus its cost: 10,000 boxes at constant density must cost well
 // under 100x what 1,000 do (n log n gives ~13x, n^2 would give 100x).
+#include "support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -44,11 +46,7 @@ void operator delete(void* p, std::size_t) noexcept {
 namespace linx::collision {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
+using test::kSanitized;
 
 constexpr double kPi = 3.14159265358979323846;
 
