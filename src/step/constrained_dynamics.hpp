@@ -56,9 +56,12 @@ class ConstrainedDynamics {
                         std::span<const Body> bodies, const SolverSettings& settings,
                         std::span<const std::uint8_t> moving, const JointContext& ctx,
                         std::span<const Row> rows, double eps);
+  /// After the regularized solve of the first `equalities` rows: one step of iterated
+  /// regularization, which takes back the regularization's error on well-conditioned rows.
+  void refine(std::size_t equalities);
 
   std::vector<Row> rows_, forces_, slots_, before_, after_;
-  std::vector<double> curvature_, lambda_;
+  std::vector<double> curvature_, lambda_, residual_;
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
 };
