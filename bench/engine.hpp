@@ -86,4 +86,15 @@ std::vector<Variant> bulletSweep(const Scene& scene, const std::vector<int>& cou
 std::vector<Variant> mujocoSweep(const Scene& scene, const std::vector<int>& counts);
 std::vector<Variant> dartSweep(const Scene& scene, const std::vector<int>& counts);
 
+/// The integrator table's rows of each engine (linx-bench --integrators): linx's step and its
+/// accurate integrator at tolerances 1e-6 to 1e-12; MuJoCo's Euler, implicit and RK4 integrators
+/// at h and smaller steps; ODE's dWorldStep at h and h / 16. Each row's Variant::knob is its short
+/// label.
+std::vector<Variant> linxIntegrators(const Scene& scene);
+std::vector<Variant> odeIntegrators(const Scene& scene);
+std::vector<Variant> mujocoIntegrators(const Scene& scene);
+/// Simbody (only here: the integrator table's mechanisms): its error-controlled integrators at
+/// several accuracies, in internal coordinates, loops closed by constraints.
+std::vector<Variant> simbodyIntegrators(const Scene& scene);
+
 }  // namespace bench

@@ -61,6 +61,15 @@ std::vector<SceneEntry> paretoSceneList(bool quick) {
   return list;
 }
 
+/// The integrator table's mechanisms (--integrators), at the durations docs/integrators.md quotes.
+std::vector<SceneEntry> integratorSceneList() {
+  using namespace bench;
+  return {{"a01-pendulum", [] { return pendulumA01(100.0); }, 1},
+          {"a02-four-bar", [] { return fourBarA02(20.0); }, 81},
+          {"heavy-top", [] { return heavyTop(5.0); }, 1},
+          {"chain", [] { return swingingChain(10.0); }, 5}};
+}
+
 /// The model-file cases wanted, each run by every engine wanted (model_files.hpp); a case whose
 /// file is missing becomes a line of `skipped`.
 void runModelCases(const std::vector<bench::ModelCase>& cases,
@@ -117,12 +126,15 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene_names,
                  "Scenes to run (default all): chain, heavy-chain, pyramid, spheres, slider-crank, "
                  "ragdolls, and the model files humanoid, 22_humanoids (MuJoCo's samples, from "
-                 "libmujoco-samples) and four_bar (examples/robots), each run as it is")
+                 "libmujoco-samples) and four_bar (examples/robots), each run as it is; with "
+                 "--integrators: a01-pendulum, a02-four-bar, heavy-top, chain")
       ->check(CLI::IsMember({"chain", "heavy-chain", "pyramid", "spheres", "slider-crank",
-                             "ragdolls", "humanoid", "22_humanoids", "four_bar"}));
+                             "ragdolls", "humanoid", "22_humanoids", "four_bar", "a01-pendulum",
+                             "a02-four-bar", "heavy-top"}));
   app.add_option("--engine", engine_names,
-                 "Engines to run (default every one built): linx, ode, bullet, mujoco, dart")
-      ->check(CLI::IsMember({"linx", "ode", "bullet", "mujoco", "dart"}));
+                 "Engines to run (default every one built): linx, ode, bullet, mujoco, dart, "
+                 "simbody (--integrators only)")
+      ->check(CLI::IsMember({"linx", "ode", "bullet", "mujoco", "dart", "simbody"}));
   app.add_flag("--quick", quick,
                "Smallest size of each scene and 20 steps, one run of each model file (with "
                "--pareto: the 55-box pyramid and the sphere pile, the least and the most "
@@ -143,6 +155,14 @@ int main(int argc, char** argv) {
                "pyramids of 55 and 210 boxes and the 1,000-sphere pile, for linx's default step "
                "and its soft step at 1, 2, 4 and 8 substeps, and each peer at 10, 20, 50 and 100 "
                "iterations (and its default row when that is another solver)");
+  bool integrators = false;
+  app.add_flag("--integrators", integrators,
+               "Instead of the table and targets, the integrator table: error against time on "
+               "the mechanisms IFToMM A01 (pendulum, 100 s), A02 (N-four-bar, 20 s), the heavy "
+               "top (5 s) and a 5-link chain (10 s), for linx's step and its accurate integrator "
+               "at tolerances 1e-6 to 1e-12, MuJoCo's Euler, implicit and RK4 integrators at h "
+               "and smaller steps, Simbody's error-controlled integrators and ODE's dWorldStep")
+      ->excludes("--pareto");
   CLI11_PARSE(app, argc, argv);
 
   std::string command = "linx-bench";
@@ -157,13 +177,22 @@ int main(int argc, char** argv) {
       quick ? std::vector<int>{10, 100} : std::vector<int>{10, 20, 50, 100};
   const bool files_only = !model_files.empty() && scene_names.empty();  // --model alone
   std::vector<bench::Result> results;
-  for (const SceneEntry& entry : pareto ? paretoSceneList(quick) : sceneList(quick)) {
+  const std::vector<SceneEntry> scene_list = pareto        ? paretoSceneList(quick)
+                                             : integrators ? integratorSceneList()
+                                                           : sceneList(quick);
+  for (const SceneEntry& entry : scene_list) {
     if (files_only || !wanted(scene_names, entry.key)) continue;
     if (max_bodies > 0 && entry.bodies > max_bodies) continue;
     bench::Scene scene = entry.make();
     if (quick) scene.steps = std::min(scene.steps, 20);
     std::vector<bench::Variant> variants;
-    if (pareto) {
+    if (integrators) {
+      variants = bench::linxIntegrators(scene);
+      for (auto* more :
+           {&bench::mujocoIntegrators, &bench::simbodyIntegrators, &bench::odeIntegrators}) {
+        for (bench::Variant& v : more(scene)) variants.push_back(std::move(v));
+      }
+    } else if (pareto) {
       variants = bench::linxSweep(scene, substeps);
       for (auto* more :
            {&bench::odeSweep, &bench::bulletSweep, &bench::mujocoSweep, &bench::dartSweep}) {
@@ -191,7 +220,7 @@ int main(int argc, char** argv) {
 
   std::vector<bench::ModelFigures> figures;
   std::vector<std::string> skipped;
-  if (!pareto) {
+  if (!pareto && !integrators) {
     std::vector<bench::ModelCase> cases;
     for (const bench::ModelCase& c : bench::modelCases())
       if (!files_only && wanted(scene_names, c.key)) cases.push_back(c);
@@ -209,6 +238,12 @@ int main(int argc, char** argv) {
   if (pareto) {
     fmt::print("Command: {}\n{}", command, bench::paretoTable(results, false));
     report += bench::paretoTable(results, true);
+  } else if (integrators) {
+    const std::vector<bench::Target> targets = bench::integratorTargets(results);
+    fmt::print("Command: {}\n{}\nTargets:\n{}", command, bench::integratorTable(results, false),
+               bench::targetLines(targets, false));
+    report += bench::integratorTable(results, true) + "\nTargets:\n\n" +
+              bench::targetLines(targets, true);
   } else {
     const std::vector<bench::Target> targets = bench::targets(results);
     const std::string models = bench::modelLines(figures, skipped, false);
@@ -224,9 +259,12 @@ int main(int argc, char** argv) {
   if (!markdown.empty()) {
     // A file with the markers gets the report between them, the rest kept (docs/performance.md:
     // the table's between linx-bench:begin and :end, the Pareto table's between
-    // linx-bench:pareto:begin and :end); a file with only the other report's markers is refused,
-    // any other file is the report alone. Written under a temporary name, then renamed.
-    const std::string kind = pareto ? "linx-bench:pareto:" : "linx-bench:";
+    // linx-bench:pareto:begin and :end, the integrator table's between
+    // linx-bench:integrators:begin and :end); a file with only another report's markers is
+    // refused, any other file is the report alone. Written under a temporary name, then renamed.
+    const std::string kind = pareto        ? "linx-bench:pareto:"
+                             : integrators ? "linx-bench:integrators:"
+                                           : "linx-bench:";
     const std::string begin = "<!-- " + kind + "begin -->", end = "<!-- " + kind + "end -->";
     std::string text = report;
     if (std::ifstream in{markdown}) {

@@ -60,11 +60,13 @@ std::string Accuracy::describe(Metric metric) {
       return "deepest penetration";
     case Metric::PistonError:
       return "piston error";
+    case Metric::PathError:
+      return "distance from the known path";
   }
   return "?";
 }
 
-void Accuracy::sample(const Engine& engine) {
+void Accuracy::sample(const Engine& engine, double time) {
   bool finite = true;
   for (std::size_t i = 0; i < poses_.size(); ++i) {
     poses_[i] = engine.pose(static_cast<int>(i));
@@ -87,6 +89,10 @@ void Accuracy::sample(const Engine& engine) {
       break;
     case Metric::PistonError:
       v = pistonError(poses_);
+      break;
+    case Metric::PathError:
+      v = pathError(poses_, time);
+      joints_worst_ = std::max(joints_worst_, jointSeparation(poses_));
       break;
   }
   // NaN (a blown-up engine) must show, not vanish under std::max.
@@ -183,6 +189,14 @@ double Accuracy::pistonError(const std::vector<Pose>& poses) const {
   return std::abs(actual - expected);
 }
 
+double Accuracy::pathError(const std::vector<Pose>& poses, double time) {
+  const KnownPath& path = *scene_.path;
+  const std::optional<Vec3> expected = path.at(time);
+  if (!expected) return 0.0;
+  ++path_points_;
+  return (toWorld(poses[path.body], path.point) - *expected).norm();
+}
+
 Energy::Energy(const Scene& scene) : scene_(scene) {
   poses_.resize(scene.bodies.size());
   twists_.resize(scene.bodies.size());
@@ -192,7 +206,7 @@ Energy::Energy(const Scene& scene) : scene_(scene) {
     twists_[i] = Twist{b.velocity, b.angular_velocity};
   }
   start_ = total(scene, poses_, twists_, &exchanged_);
-  last_ = highest_ = start_;
+  last_ = highest_ = lowest_ = start_;
 }
 
 double Energy::total(const Scene& scene, const std::vector<Pose>& poses,
@@ -225,6 +239,7 @@ void Energy::sample(const Engine& engine) {
   }
   exchanged_ = std::max(exchanged_, kinetic);
   highest_ = std::max(highest_, e);
+  lowest_ = std::min(lowest_, e);
   last_ = e;
 }
 
@@ -240,6 +255,10 @@ double Energy::rise() const {
 
 double Energy::end() const {
   return percent(last_ - start_);
+}
+
+double Energy::drift() const {
+  return percent(std::max(highest_ - start_, start_ - lowest_));
 }
 
 }  // namespace bench

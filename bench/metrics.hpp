@@ -12,11 +12,16 @@ namespace bench {
 class Accuracy {
  public:
   explicit Accuracy(const Scene& scene);
-  /// Reads every body's pose from the engine and updates the figure (a maximum over samples).
-  void sample(const Engine& engine);
+  /// Reads every body's pose from the engine at `time` (s; the known path's clock) and updates
+  /// the figure (a maximum over samples).
+  void sample(const Engine& engine, double time = 0.0);
   /// Whether the runner should sample after `step` (1-based); the final step is always sampled.
   bool due(int step) const { return step % every_ == 0 || step == scene_.steps; }
   double value() const { return worst_; }
+  /// Metric::PathError scenes: the largest joint separation too (m), and the number of samples
+  /// the known path was compared at (a published solution's instants the run reached).
+  double joints() const { return joints_worst_; }
+  int pathPoints() const { return path_points_; }
   /// "largest joint separation", ...
   static std::string describe(Metric metric);
 
@@ -25,6 +30,7 @@ class Accuracy {
   double displacement(const std::vector<Pose>& poses) const;
   double penetration(const std::vector<Pose>& poses) const;
   double pistonError(const std::vector<Pose>& poses) const;
+  double pathError(const std::vector<Pose>& poses, double time);
 
   const Scene& scene_;
   int every_ = 1;
@@ -38,6 +44,8 @@ class Accuracy {
   Vec3 crank_pin_ = Vec3::Zero();  // PistonError: crank pin in the crank's frame
   std::vector<Pose> poses_;
   double worst_ = 0.0;
+  double joints_worst_ = 0.0;
+  int path_points_ = 0;
 };
 
 /// The energy figure of a scene that conserves energy (Scene::energy): the total energy E, the
@@ -55,6 +63,8 @@ class Energy {
   void sample(const Engine& engine);
   double rise() const;
   double end() const;
+  /// The largest |E - E0| over the samples, in percent of the energy exchanged (NaN as above).
+  double drift() const;
   /// The total energy of the scene's dynamic bodies at the given poses and velocities (J);
   /// `kinetic`, when given, receives its kinetic part.
   static double total(const Scene& scene, const std::vector<Pose>& poses,
@@ -66,7 +76,7 @@ class Energy {
   const Scene& scene_;
   std::vector<Pose> poses_;
   std::vector<Twist> twists_;
-  double start_ = 0.0, exchanged_ = 0.0, highest_ = 0.0, last_ = 0.0;
+  double start_ = 0.0, exchanged_ = 0.0, highest_ = 0.0, lowest_ = 0.0, last_ = 0.0;
   bool finite_ = true;
 };
 

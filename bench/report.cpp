@@ -58,7 +58,8 @@ std::string firstLine(const std::string& path, const std::string& key) {
   return "unknown";
 }
 
-/// A table, fixed-width (columns padded, `right` ones aligned right) or Markdown.
+}  // namespace
+
 std::string render(const std::vector<std::string>& head,
                    const std::vector<std::vector<std::string>>& rows,
                    const std::function<bool(std::size_t)>& right, bool markdown) {
@@ -95,8 +96,6 @@ std::string render(const std::vector<std::string>& head,
   for (const auto& row : rows) line(row);
   return out;
 }
-
-}  // namespace
 
 std::vector<std::string> machineDescription() {
   char date[32] = "";

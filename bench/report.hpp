@@ -3,10 +3,16 @@
 
 #include "runner.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace bench {
+
+/// A table, fixed-width (columns padded, `right` ones aligned right) or Markdown.
+std::string render(const std::vector<std::string>& head,
+                   const std::vector<std::vector<std::string>>& rows,
+                   const std::function<bool(std::size_t)>& right, bool markdown);
 
 /// Machine, compiler and date, one line each.
 std::vector<std::string> machineDescription();
@@ -29,5 +35,13 @@ struct Target {
 /// Each of the issue's targets that this run's results can decide.
 std::vector<Target> targets(const std::vector<Result>& results);
 std::string targetLines(const std::vector<Target>& targets, bool markdown);
+
+/// The integrator table (linx-bench --integrators): per mechanism, each row's time per step and
+/// over the run, its distance from the known path, its energy drift and its joints' separation.
+std::string integratorTable(const std::vector<Result>& results, bool markdown);
+/// Issue 19's speed target on each mechanism: at equal accuracy, linx's accurate integrator
+/// (its default row) faster than MuJoCo's RK4 and than Simbody's RK Merson (the error-controlled
+/// integrator of its examples; its CPodes rows are shown, not judged).
+std::vector<Target> integratorTargets(const std::vector<Result>& results);
 
 }  // namespace bench

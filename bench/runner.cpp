@@ -92,7 +92,7 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
         }
       }
       if (accuracy.due(s) || stepping > budget_s) {
-        accuracy.sample(*engine);
+        accuracy.sample(*engine, s * scene.timestep);
         if (scene.energy) energy.sample(*engine);
         const double heap = heapInUse();
         if (heap > heap_peak) {
@@ -113,6 +113,9 @@ Result run(const Scene& scene, const Variant& variant, double budget_s) {
     r.has_energy = scene.energy;
     r.energy_rise = energy.rise();
     r.energy_end = energy.end();
+    r.energy_drift = energy.drift();
+    r.joints = accuracy.joints();
+    r.path_points = accuracy.pathPoints();
     r.heap_peak_mib = (heap_peak - heap0) / (1024.0 * 1024.0);
     r.ran = true;
     engine.reset();

@@ -31,6 +31,10 @@ struct Result {
   /// exchanged), sampled with the accuracy; NaN when the engine blew up or gives no velocities.
   bool has_energy = false;
   double energy_rise = 0.0, energy_end = 0.0;
+  double energy_drift = 0.0;  ///< Energy::drift()
+  /// Metric::PathError scenes: Accuracy::joints() and Accuracy::pathPoints().
+  double joints = 0.0;
+  int path_points = 0;
   double heap_peak_mib = 0.0;  ///< largest heap in use during the run, less the heap before it
   /// The heap after the first step and the contact points then, and the contact points when the
   /// peak was seen: two points that split the heap into a part per body and a part per contact.

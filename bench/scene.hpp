@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -64,6 +65,18 @@ enum class Metric {
   MaxDisplacement,  ///< largest displacement of any dynamic body from its start (m)
   MaxPenetration,   ///< deepest overlap of two shapes, or of a shape and a static one (m)
   PistonError,      ///< slider-crank: piston against r cos phi + sqrt(l^2 - r^2 sin^2 phi) (m)
+  PathError,        ///< a point of a body against its known path (Scene::path) (m)
+};
+
+/// A point whose path is known independently of any engine (a closed form, published reference
+/// positions): Metric::PathError is its largest distance from that path over the run.
+struct KnownPath {
+  int body = -1;              ///< index into Scene::bodies
+  Vec3 point = Vec3::Zero();  ///< in the body's frame (m)
+  std::string source;         ///< "closed form", "published reference solution", ...
+  /// The point's position at time t (world frame, m), or nothing where the path is not known at t
+  /// (published solutions give a few instants).
+  std::function<std::optional<Vec3>(double t)> at;
 };
 
 struct Scene {
@@ -85,6 +98,7 @@ struct Scene {
   int slider_crank_crank = -1, slider_crank_piston = -1;  ///< PistonError: body indices
   double crank_radius = 0.0, rod_length = 0.0;            ///< PistonError: r and l (m)
   Vec3 crank_centre = Vec3::Zero();                       ///< PistonError: crank hinge (m)
+  std::optional<KnownPath> path = std::nullopt;           ///< PathError
 };
 
 }  // namespace bench

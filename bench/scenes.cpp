@@ -1,9 +1,12 @@
 #include "scenes.hpp"
 
+#include "jacobi_sn.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace bench {
 namespace {
@@ -44,6 +47,10 @@ Body staticBox(std::string name, const Vec3& centre, const Vec3& half) {
   b.shape.kind = Shape::Kind::Box;
   b.shape.half_extents = half;
   return b;
+}
+
+int stepsOf(double duration, double h) {
+  return static_cast<int>(std::llround(duration / h));
 }
 
 }  // namespace
@@ -273,6 +280,144 @@ Scene ragdolls(int count) {
       s.joints.push_back(j);
     }
   }
+  return s;
+}
+
+Scene pendulumA01(double duration) {
+  constexpr double kMass = 1.0, kInertia = 1e-4, kLength = 1.0, kG = 9.81;
+  Scene s;
+  s.name = "A01 pendulum";
+  s.size = "1 body";
+  s.timestep = 0.01;
+  s.steps = stepsOf(duration, s.timestep);
+  s.gravity = Vec3(0.0, -kG, 0.0);
+  s.metric = Metric::PathError;
+  s.energy = true;
+  Body b;
+  b.name = "mass";
+  b.mass = kMass;
+  b.inertia = Vec3::Constant(kInertia);
+  b.position = Vec3(-kLength, 0.0, 0.0);
+  s.bodies.push_back(b);
+  Joint j;
+  j.body1 = -1;
+  j.body2 = 0;
+  j.axis = Vec3::UnitZ();
+  s.joints.push_back(j);
+  // The physical pendulum released at 90 degrees: theta = 2 asin(k sn(K - w0 t, k)) from the
+  // downward vertical, k = sin(45 degrees), w0^2 = m g L / (m L^2 + I).
+  const double k = std::sin(kPi / 4);
+  const double w0 = std::sqrt(kMass * kG * kLength / (kMass * kLength * kLength + kInertia));
+  const double quarter = std::comp_ellint_1(k);
+  s.path = KnownPath{0, Vec3::Zero(), "closed form", [=](double t) -> std::optional<Vec3> {
+                       const double theta = 2.0 * std::asin(k * jacobiSn(quarter - w0 * t, k));
+                       return Vec3(-kLength * std::sin(theta), -kLength * std::cos(theta), 0.0);
+                     }};
+  return s;
+}
+
+Scene fourBarA02(double duration) {
+  constexpr int kBars = 40;
+  Scene s;
+  s.name = "A02 four-bar";
+  s.size = "N=40 (81 bodies)";
+  s.timestep = 0.01;
+  s.steps = stepsOf(duration, s.timestep);
+  s.gravity = Vec3(0.0, -9.81, 0.0);
+  s.metric = Metric::PathError;
+  s.energy = true;
+  const double along = 1.0 / 12.0, thin = 1e-4;  // a 1 m, 1 kg rod about its centre
+  for (int i = 0; i <= kBars; ++i) {             // the cranks, upright, turning at -1 rad/s
+    Body b;
+    b.name = "crank" + std::to_string(i);
+    b.inertia = Vec3(along, thin, along);
+    b.position = Vec3(i, 0.5, 0.0);
+    b.velocity = Vec3(0.5, 0.0, 0.0);
+    b.angular_velocity = Vec3(0.0, 0.0, -1.0);
+    s.bodies.push_back(b);
+  }
+  for (int i = 0; i < kBars; ++i) {  // the couplers, level, moving at 1 m/s
+    Body b;
+    b.name = "coupler" + std::to_string(i);
+    b.inertia = Vec3(thin, along, along);
+    b.position = Vec3(i + 0.5, 1.0, 0.0);
+    b.velocity = Vec3(1.0, 0.0, 0.0);
+    s.bodies.push_back(b);
+  }
+  const auto hinge = [&](int b1, int b2, const Vec3& anchor) {
+    Joint j;
+    j.body1 = b1;
+    j.body2 = b2;
+    j.anchor = anchor;
+    j.axis = Vec3::UnitZ();
+    s.joints.push_back(j);
+  };
+  for (int i = 0; i <= kBars; ++i) hinge(-1, i, Vec3(i, 0.0, 0.0));
+  for (int i = 0; i < kBars; ++i) {
+    hinge(kBars + 1 + i, i, Vec3(i, 1.0, 0.0));
+    hinge(kBars + 1 + i, i + 1, Vec3(i + 1, 1.0, 0.0));
+  }
+  struct Published {
+    double t, x, y;
+  };
+  const std::vector<Published> published{
+      {0.05, 5.02096E-02, 9.98739E-01},  {0.5, 6.87926E-01, 7.25781E-01},
+      {1.0, -1.15357E-01, -9.93324E-01}, {2.0, 3.44663E-02, 9.99406E-01},
+      {5.0, -5.40191E-01, -8.41543E-01}, {10.0, 1.80513E-01, 9.83573E-01},
+      {20.0, 4.10902E-01, 9.11679E-01}};
+  s.path = KnownPath{0, Vec3(0.0, 0.5, 0.0), "published reference solution",
+                     [published](double t) -> std::optional<Vec3> {
+                       for (const Published& p : published)
+                         if (std::abs(t - p.t) < 1e-9) return Vec3(p.x, p.y, 0.0);
+                       return std::nullopt;
+                     }};
+  return s;
+}
+
+Scene heavyTop(double duration) {
+  constexpr double kMass = 1.0, kArm = 0.1, kTilt = 0.5, kPrecession = 1.5, kG = 9.81;
+  constexpr double kAcross = 2e-3, kAlong = 3e-3;  // about the centre
+  Scene s;
+  s.name = "heavy top";
+  s.size = "1 body";
+  s.timestep = 1e-3;
+  s.steps = stepsOf(duration, s.timestep);
+  s.gravity = Vec3(0.0, 0.0, -kG);
+  s.metric = Metric::PathError;
+  s.energy = true;
+  // Steady precession at W needs the spin w3 = (m g l + I1 W^2 cos(theta)) / (I3 W), I1 about
+  // the tip; the angular velocity is W z + (w3 - W cos(theta)) along the axis.
+  const double about_tip = kAcross + kMass * kArm * kArm;
+  const double spin =
+      (kMass * kG * kArm + about_tip * kPrecession * kPrecession * std::cos(kTilt)) /
+      (kAlong * kPrecession);
+  const Vec3 axis(std::sin(kTilt), 0.0, std::cos(kTilt));
+  Body b;
+  b.name = "top";
+  b.mass = kMass;
+  b.inertia = Vec3(kAcross, kAcross, kAlong);
+  b.orientation = Quat::FromTwoVectors(Vec3::UnitZ(), axis);
+  b.position = kArm * axis;
+  b.angular_velocity = kPrecession * Vec3::UnitZ() + (spin - kPrecession * std::cos(kTilt)) * axis;
+  b.velocity = b.angular_velocity.cross(b.position);
+  s.bodies.push_back(b);
+  Joint tip;
+  tip.kind = Joint::Kind::Ball;
+  tip.body1 = -1;
+  tip.body2 = 0;
+  s.joints.push_back(tip);
+  s.path = KnownPath{0, Vec3::Zero(), "closed form", [=](double t) -> std::optional<Vec3> {
+                       const double azimuth = kPrecession * t;
+                       return kArm * Vec3(std::sin(kTilt) * std::cos(azimuth),
+                                          std::sin(kTilt) * std::sin(azimuth), std::cos(kTilt));
+                     }};
+  return s;
+}
+
+Scene swingingChain(double duration) {
+  Scene s = hingeChain(5);
+  s.timestep = 1e-3;
+  s.steps = stepsOf(duration, s.timestep);
   return s;
 }
 

@@ -25,4 +25,24 @@ Scene sliderCrank();
 /// plane, friction 0.5; h = 1/60 s, 4 s.
 Scene ragdolls(int count);
 
+// The mechanisms of the integrator table (linx-bench --integrators, docs/integrators.md): smooth
+// jointed motion without contacts, each with an independent truth. Each runs `duration` seconds.
+
+/// IFToMM A01: a 1 kg mass (inertia 1e-4 kg m^2) 1 m from a hinge at the origin, released
+/// horizontal under g = 9.81 m/s^2 along -y; h = 0.01 s. Its centre against the physical
+/// pendulum's closed form (Jacobi's sn), energy conserved.
+Scene pendulumA01(double duration);
+/// IFToMM A02: the N-four-bar mechanism, N = 40: 41 cranks hinged to the ground 1 m apart and 40
+/// couplers, 1 m, 1 kg rods, 80 loop-closing hinges (redundant in the plane), singular whenever
+/// the cranks are horizontal; h = 0.01 s. Point B0, the top of the first crank, against the
+/// library's published reference positions at 0.05, 0.5, 1, 2, 5, 10 and 20 s; energy conserved.
+Scene fourBarA02(double duration);
+/// The heavy symmetric top in steady precession (Goldstein, section 5.7): 1 kg, centre 0.1 m
+/// from the fixed tip (a ball joint), tilted 0.5 rad, precessing at 1.5 rad/s; h = 1 ms. Its
+/// centre against the closed form (a circle at constant height); energy conserved.
+Scene heavyTop(double duration);
+/// The 5-link hinge chain of hingeChain(5) at h = 1 ms (issue 19's chain): energy conserved, no
+/// closed form.
+Scene swingingChain(double duration);
+
 }  // namespace bench

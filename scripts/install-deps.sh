@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages linx needs to build and test, only those missing.
-# Usage: scripts/install-deps.sh [--peers]   (--peers adds ODE, Bullet, MuJoCo and DART for bench/)
+# Usage: scripts/install-deps.sh [--peers]   (--peers adds ODE, Bullet, MuJoCo, DART and Simbody for bench/)
 # clang builds the fuzz harnesses (scripts/fuzz.sh), curl tests the viewer server.
 # Pictures (docs/visualization.md): povray renders frames, ffmpeg makes videos, gnuplot plots,
 # cpp-httplib serves the viewer, whose page is bundled by npm (three.js) at build time and tested
@@ -16,7 +16,7 @@ packages=(build-essential cmake ninja-build pkg-config libeigen3-dev nlohmann-js
           python3-dev pybind11-dev python3-numpy python3-pytest python3-distributed python3-matplotlib
           python3-venv)
 if ! command -v npm >/dev/null || ! command -v node >/dev/null; then packages+=(nodejs npm); fi
-if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev libdart-dev); fi
+if [[ "${1:-}" == "--peers" ]]; then packages+=(libode-dev libbullet-dev libmujoco-dev libdart-dev libsimbody-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -9,7 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string_view>
 #include <thread>
 
 namespace bench {
@@ -144,6 +147,12 @@ TEST(BenchMetrics, EnergyIsKineticPlusPotentialAgainstTheStart) {
   a.sample(e);
   EXPECT_NEAR(a.rise(), 100.0 * 0.02 / 1.02, 1e-9);
   EXPECT_NEAR(a.end(), 0.0, 1e-12);
+  EXPECT_NEAR(a.drift(), 100.0 * 0.02 / 1.02, 1e-9);
+  // 3 % of it lost: the drift is the larger change either way.
+  e.poses[0].position.z() -= 0.03 * (1.02 * b.mass * r * g) / (b.mass * g);
+  a.sample(e);
+  EXPECT_NEAR(a.end(), -100.0 * 0.03, 1e-9);
+  EXPECT_NEAR(a.drift(), 100.0 * 0.03, 1e-9);
   // An engine without velocities (the default) reads NaN, for good.
   FixedPoses f(s);
   a.sample(f);
@@ -159,6 +168,86 @@ TEST(BenchScenes, SizesAreAsStated) {
   EXPECT_EQ(ragdolls(100).joints.size(), 1000u);
   EXPECT_EQ(hingeChain(1000).joints.size(), 1000u);
   EXPECT_EQ(hingeChain(10, 1000.0).bodies.back().mass, 1000.0);
+}
+
+// The integrator table's mechanisms: each known path starts where its point is, A02's published
+// positions are met only at their instants, and the sizes are the benchmark's.
+TEST(BenchScenes, MechanismPathsStartAtTheirPoints) {
+  for (const Scene& s : {pendulumA01(1.0), fourBarA02(1.0), heavyTop(1.0)}) {
+    ASSERT_EQ(s.metric, Metric::PathError) << s.name;
+    ASSERT_TRUE(s.path.has_value()) << s.name;
+    ASSERT_TRUE(s.energy) << s.name;
+    const Body& b = s.bodies[static_cast<std::size_t>(s.path->body)];
+    const Vec3 point = b.position + b.orientation * s.path->point;
+    if (s.name == "A02 four-bar") {
+      EXPECT_FALSE(s.path->at(0.0).has_value());
+      ASSERT_TRUE(s.path->at(0.05).has_value());
+      // B0 at 0.05 s: the crank turned by about 0.05 rad from upright, clockwise.
+      EXPECT_NEAR((*s.path->at(0.05) - Eigen::AngleAxisd(-0.05, Vec3::UnitZ()) * point).norm(), 0.0,
+                  1e-3);
+    } else {
+      ASSERT_TRUE(s.path->at(0.0).has_value());
+      EXPECT_NEAR((*s.path->at(0.0) - point).norm(), 0.0, 1e-12) << s.name;
+    }
+  }
+  EXPECT_EQ(fourBarA02(1.0).bodies.size(), 81u);
+  EXPECT_EQ(fourBarA02(1.0).joints.size(), 121u);
+  EXPECT_EQ(pendulumA01(100.0).steps, 10000);
+  EXPECT_EQ(swingingChain(10.0).steps, 10000);
+}
+
+// linx's accurate integrator through the adapter's integrator rows: the pendulum and the top on
+// their closed forms, the energy kept, the joints closed.
+TEST(BenchLinx, AccurateRowsFollowTheClosedForms) {
+  for (Scene s : {pendulumA01(2.0), heavyTop(1.0)}) {
+    const std::vector<Variant> variants = linxIntegrators(s);
+    const auto it = std::find_if(variants.begin(), variants.end(),
+                                 [](const Variant& v) { return v.reference; });
+    ASSERT_NE(it, variants.end());
+    const Result r = run(s, *it, 60.0);
+    ASSERT_TRUE(r.ran) << r.note;
+    std::printf("%s, %s: path error %.2e m, energy drift %.2e %%, joints %.2e m\n", s.name.c_str(),
+                it->settings.c_str(), r.accuracy, r.energy_drift, r.joints);
+    EXPECT_EQ(r.path_points, s.steps);
+    EXPECT_LT(r.accuracy, 1e-8);
+    EXPECT_LT(r.energy_drift, 1e-6);  // percent
+    EXPECT_LT(r.joints, 1e-9);
+  }
+}
+
+// The speed target's rule: the fastest RK4 row at least as accurate as linx decides; when none
+// is, linx must beat the finest, unless RK4's error stopped falling with its step.
+TEST(BenchReport, IntegratorTargetTakesTheRowsAsAccurate) {
+  const auto row = [](const char* engine, const char* knob, double error, double ms) {
+    Result r;
+    r.scene = std::string("mechanism");
+    r.engine = std::string(engine);
+    r.knob = std::string(knob);
+    r.reference = std::string_view(engine) == "linx";
+    r.ran = true;
+    r.steps = r.steps_planned = 1000;
+    r.accuracy = error;
+    r.path_points = 1000;
+    r.mean_ms = ms;
+    return r;
+  };
+  const auto verdict = [](const std::vector<Result>& rows) {
+    const std::vector<Target> t = integratorTargets(rows);
+    EXPECT_EQ(t.size(), 2u);  // MuJoCo's RK4, and Simbody (no rows: not measured)
+    EXPECT_FALSE(t.back().measured);
+    return t.front().met;
+  };
+  const Result linx = row("linx", "accurate", 1e-9, 1.0);
+  EXPECT_TRUE(
+      verdict({linx, row("MuJoCo", "RK4", 1e-6, 0.1), row("MuJoCo", "RK4, h / 4", 1e-9, 2.0)}));
+  EXPECT_FALSE(
+      verdict({linx, row("MuJoCo", "RK4", 1e-6, 0.1), row("MuJoCo", "RK4, h / 4", 1e-10, 0.5)}));
+  // None as accurate: the finest (2e-9) still falling and cheaper than linx: not met.
+  EXPECT_FALSE(
+      verdict({linx, row("MuJoCo", "RK4", 1e-6, 0.1), row("MuJoCo", "RK4, h / 4", 2e-9, 0.5)}));
+  // ... stalled at 1e-6 (soft constraints): met.
+  EXPECT_TRUE(
+      verdict({linx, row("MuJoCo", "RK4", 1.1e-6, 0.1), row("MuJoCo", "RK4, h / 4", 1e-6, 0.5)}));
 }
 
 // linx through the adapter: the slider-crank's piston against its closed form, and a pyramid

@@ -7,6 +7,8 @@
 // sanitizers: test::runLength).
 #include "support.hpp"
 
+#include "jacobi_sn.hpp"
+
 #include <linx/scene.hpp>
 
 #include <gtest/gtest.h>
@@ -28,21 +30,7 @@ World loadBenchmark(const std::string& name, Scene& scene) {
   return buildWorld(scene);
 }
 
-// Jacobi's sn(u, k) by the arithmetic-geometric mean (Abramowitz and Stegun 16.4.3).
-double jacobiSn(double u, double k) {
-  std::vector<double> a{1.0}, c{k};
-  double b = std::sqrt(1.0 - k * k);
-  while (std::abs(c.back()) > 1e-16 && a.size() < 64) {
-    const double an = 0.5 * (a.back() + b);
-    c.push_back(0.5 * (a.back() - b));
-    b = std::sqrt(a.back() * b);
-    a.push_back(an);
-  }
-  double phi = std::ldexp(a.back(), static_cast<int>(a.size()) - 1) * u;
-  for (std::size_t n = a.size() - 1; n > 0; --n)
-    phi = 0.5 * (phi + std::asin(c[n] * std::sin(phi) / a[n]));
-  return std::sin(phi);
-}
+using bench::jacobiSn;
 
 struct Point {
   double t, x, y;

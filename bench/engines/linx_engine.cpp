@@ -3,6 +3,8 @@
 
 #include <linx/linx.hpp>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <string>
 #include <thread>
@@ -36,8 +38,10 @@ linx::ShapeDef shapeOf(const Shape& s, double friction) {
 
 class LinxEngine final : public Engine {
  public:
-  LinxEngine(const Scene& scene, const linx::SolverSettings& solver, int threads) {
+  LinxEngine(const Scene& scene, const linx::SolverSettings& solver, int threads,
+             const linx::IntegratorSettings& integrator = {}) {
     linx::WorldSettings settings;
+    settings.integrator = integrator;
     settings.gravity = scene.gravity;
     settings.timestep = scene.timestep;
     settings.solver = solver;
@@ -208,6 +212,32 @@ std::vector<Variant> linxVariants(const Scene& scene) {
   linx::SolverSettings substepped = defaults;
   substepped.substeps = 4;
   out.push_back(variant("default, 4 substeps", substepped, false));
+  return out;
+}
+
+// The integrator table: the step at its defaults, and the accurate integrator at four tolerances,
+// its default (1e-10) the reference row.
+std::vector<Variant> linxIntegrators(const Scene& scene) {
+  std::vector<Variant> out;
+  Variant step = defaultRow(scene);
+  step.reference = false;
+  step.knob = "step (default)";
+  out.push_back(std::move(step));
+  const linx::IntegratorSettings defaults{.type = linx::IntegratorType::Accurate};
+  for (double tolerance : {1e-6, 1e-8, 1e-10, 1e-12}) {
+    linx::IntegratorSettings accurate = defaults;
+    accurate.tolerance = tolerance;
+    const bool is_default = tolerance == defaults.tolerance;
+    const std::string label =
+        fmt::format("accurate, tolerance {:g}{}", tolerance, is_default ? " (default)" : "");
+    Variant v{"linx", "integrator: " + label,
+              [accurate](const Scene& s) -> std::unique_ptr<Engine> {
+                return std::make_unique<LinxEngine>(s, linx::SolverSettings{}, 1, accurate);
+              },
+              is_default};
+    v.knob = label;
+    out.push_back(std::move(v));
+  }
   return out;
 }
 

@@ -200,9 +200,14 @@ class Writer {
 struct Options {
   int solver = -1;               ///< mjtSolver; -1: MuJoCo's default (Newton)
   int iterations = 0;            ///< the solver's iteration cap; 0: MuJoCo's default (100)
-  int integrator = mjINT_EULER;  ///< mjINT_EULER or mjINT_RK4
+  int integrator = mjINT_EULER;  ///< mjINT_EULER, mjINT_RK4 or mjINT_IMPLICIT
   int substeps = 1;              ///< MuJoCo steps of scene.timestep / substeps per step()
 };
+
+/// The integrator as MJCF's <option integrator> names it.
+const char* integratorName(int integrator) {
+  return integrator == mjINT_RK4 ? "RK4" : integrator == mjINT_IMPLICIT ? "implicit" : "Euler";
+}
 
 struct ModelDeleter {
   void operator()(mjModel* m) const { mj_deleteModel(m); }
@@ -224,8 +229,9 @@ class MujocoEngine final : public Engine {
     mjData* d = data_.get();
     const double t = d->time + substeps_ * model_->opt.timestep;
     for (int k = 0; k < substeps_; ++k) {
-      if (model_->opt.integrator == mjINT_RK4) {
-        mj_step(model_.get(), d);  // RK4 only through mj_step: xpos is left from an inner stage
+      if (model_->opt.integrator != mjINT_EULER) {
+        // RK4 and implicit only through mj_step: xpos is left from an inner stage (RK4)
+        mj_step(model_.get(), d);
         posed_ = false;
         moving_ = false;
       } else {
@@ -430,8 +436,7 @@ MujocoEngine::MujocoEngine(const Scene& scene, const Options& options)
   mjcf.files.emplace_back("model.xml", std::string());
   std::string xml = "<mujoco model='bench'><compiler angle='radian'/>";
   xml += "<option timestep='" + num(scene.timestep / options.substeps) + "' gravity='" +
-         vec(scene.gravity) + "' integrator='" +
-         (options.integrator == mjINT_RK4 ? "RK4" : "Euler") + "'/>";
+         vec(scene.gravity) + "' integrator='" + integratorName(options.integrator) + "'/>";
   xml += "<size njmax='" + std::to_string(njmax) + "' nconmax='" + std::to_string(nconmax) + "'";
   if (cap_stack) xml += " nstack='" + num(kStackCap) + "'";
   xml += "/>";
@@ -558,9 +563,8 @@ std::string settingsString(const Options& options) {
   std::snprintf(buf, sizeof buf,
                 "%s %d it tol %g, %s cone, %s, solref %g %g, solimp %g %g %g %g %g, condim 3; "
                 "loops: connect; motor: velocity actuator kv = M_eff/h",
-                solver, opt.iterations, opt.tolerance, cone,
-                options.integrator == mjINT_RK4 ? "RK4" : "Euler", solref[0], solref[1], solimp[0],
-                solimp[1], solimp[2], solimp[3], solimp[4]);
+                solver, opt.iterations, opt.tolerance, cone, integratorName(options.integrator),
+                solref[0], solref[1], solimp[0], solimp[1], solimp[2], solimp[3], solimp[4]);
   std::string out = buf;
   if (options.substeps > 1) {
     out += ", ";
@@ -601,6 +605,24 @@ std::vector<Variant> mujocoVariants(const Scene& scene) {
     out.push_back(variant(Options{-1, 0, mjINT_RK4, 1}, "Newton, RK4"));
     out.push_back(variant(Options{-1, 0, mjINT_RK4, 4}, "Newton, RK4, 4 substeps"));
   }
+  return out;
+}
+
+// The integrator table: Euler, implicit and RK4, each at h and at smaller steps (substeps), the
+// default solver. MuJoCo's own tolerance (Newton's) leaves a mechanism's loop-closing connects
+// soft: that error is MuJoCo's at every step size.
+std::vector<Variant> mujocoIntegrators(const Scene& /*scene*/) {
+  std::vector<Variant> out;
+  const auto row = [&](int integrator, int substeps) {
+    std::string knob = std::string("Newton, ") + integratorName(integrator);
+    if (substeps > 1) knob += ", h / " + std::to_string(substeps);
+    out.push_back(variant(Options{-1, 0, integrator, substeps}, std::move(knob)));
+  };
+  row(mjINT_EULER, 1);
+  row(mjINT_EULER, 16);
+  row(mjINT_IMPLICIT, 1);
+  row(mjINT_IMPLICIT, 16);
+  for (int substeps : {1, 4, 16, 64}) row(mjINT_RK4, substeps);
   return out;
 }
 

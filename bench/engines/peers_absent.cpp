@@ -12,6 +12,9 @@ std::vector<Variant> odeVariants(const Scene&) {
 std::vector<Variant> odeSweep(const Scene&, const std::vector<int>&) {
   return {};
 }
+std::vector<Variant> odeIntegrators(const Scene&) {
+  return {};
+}
 #endif
 #ifndef LINX_BENCH_HAVE_BULLET
 std::vector<Variant> bulletVariants(const Scene&) {
@@ -28,7 +31,15 @@ std::vector<Variant> mujocoVariants(const Scene&) {
 std::vector<Variant> mujocoSweep(const Scene&, const std::vector<int>&) {
   return {};
 }
+std::vector<Variant> mujocoIntegrators(const Scene&) {
+  return {};
+}
 std::vector<ModelVariant> mujocoModelVariants() {
+  return {};
+}
+#endif
+#ifndef LINX_BENCH_HAVE_SIMBODY
+std::vector<Variant> simbodyIntegrators(const Scene&) {
   return {};
 }
 #endif
