@@ -79,9 +79,14 @@ constexpr double kSecondBallOffset = 0.1;
 // fit and projection and the scene's (round-off on consistent initial conditions).
 constexpr double kVelocityFitTolerance = 1e-9;
 
-// A call of Integrator::stepTo that ends at its internal step limit having advanced less than this
-// fraction of the scene's timestep has stalled.
+// Internal steps after which Integrator::stepTo returns (ReachedStepLimit; CPodes's default is 500
+// and prints an error each time): a call that reaches it having advanced less than kStall times the
+// scene's timestep has stalled. It does not change the integration.
+constexpr int kInternalStepLimit = 100;
 constexpr double kStall = 1e-9;
+// Calls of Integrator::stepTo within one scene step after which the time must have advanced by
+// kStall of the step.
+constexpr int kStallCalls = 10;
 
 enum class Method { Merson, CPodesBdf };
 
@@ -353,6 +358,7 @@ void SimbodyEngine::startIntegrator(const Options& options, const SimTK::State& 
   integ_->setAccuracy(options.accuracy);
   integ_->setConstraintTolerance(options.accuracy / 10);  // Simbody's default relationship
   integ_->setAllowInterpolation(false);                   // stepTo ends on a step
+  integ_->setInternalStepLimit(kInternalStepLimit);
   integ_->initialize(state);
 }
 
@@ -362,7 +368,21 @@ void SimbodyEngine::step() {
   if (diverged_) return;
   const double t = static_cast<double>(steps_) * h_;
   try {
-    while (integ_->getTime() < t) advanceTowards(t);
+    // CPodes can go on at steps of 1e-17 s without reaching its step limit: a stall too.
+    double mark = integ_->getTime();
+    for (int calls = 1; integ_->getTime() < t; ++calls) {
+      advanceTowards(t);
+      if (calls % kStallCalls != 0) continue;
+      if (integ_->getTime() - mark < kStall * h_) {
+        char why[200];
+        std::snprintf(why, sizeof why,
+                      "Simbody's integrator stalled at t = %.9g s: %d calls of stepTo advanced "
+                      "less than %.3g s",
+                      mark, kStallCalls, kStall * h_);
+        throw std::runtime_error(why);
+      }
+      mark = integ_->getTime();
+    }
   } catch (const std::exception& e) {
     if (!allFinite(integ_->getAdvancedState().getY())) {  // a blow-up, not a failure
       diverged_ = true;
