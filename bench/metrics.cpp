@@ -80,6 +80,7 @@ void Accuracy::sample(const Engine& engine, double time) {
   switch (scene_.metric) {
     case Metric::JointSeparation:
       v = jointSeparation(poses_);
+      joints_worst_ = std::max(joints_worst_, v);
       break;
     case Metric::MaxDisplacement:
       v = displacement(poses_);

@@ -18,8 +18,9 @@ class Accuracy {
   /// Whether the runner should sample after `step` (1-based); the final step is always sampled.
   bool due(int step) const { return step % every_ == 0 || step == scene_.steps; }
   double value() const { return worst_; }
-  /// Metric::PathError scenes: the largest joint separation too (m), and the number of samples
-  /// the known path was compared at (a published solution's instants the run reached).
+  /// The largest joint separation (m) of a Metric::PathError or JointSeparation scene, and the
+  /// number of samples the known path was compared at (a published solution's instants the run
+  /// reached).
   double joints() const { return joints_worst_; }
   int pathPoints() const { return path_points_; }
   /// "largest joint separation", ...

@@ -32,7 +32,7 @@ struct Result {
   bool has_energy = false;
   double energy_rise = 0.0, energy_end = 0.0;
   double energy_drift = 0.0;  ///< Energy::drift()
-  /// Metric::PathError scenes: Accuracy::joints() and Accuracy::pathPoints().
+  /// Accuracy::joints() and Accuracy::pathPoints().
   double joints = 0.0;
   int path_points = 0;
   double heap_peak_mib = 0.0;  ///< largest heap in use during the run, less the heap before it
