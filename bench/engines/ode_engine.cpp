@@ -385,44 +385,36 @@ Variant quickStep(int iterations) {
   return v;
 }
 
+/// dWorldStep, each step() `substeps` of its steps (the main table's row: 1).
+Variant directStep(int substeps) {
+  std::string settings = "dWorldStep (dense LCP), " + commonSettings();
+  std::string knob = "dWorldStep";
+  if (substeps > 1) {
+    settings +=
+        ", " + std::to_string(substeps) + " substeps (h / " + std::to_string(substeps) + ")";
+    knob += ", h / " + std::to_string(substeps);
+  }
+  Variant v{"ODE", std::move(settings),
+            [substeps](const Scene& s) -> std::unique_ptr<Engine> {
+              checkFeatures(s);
+              checkDenseSize(s);
+              ensureOde();
+              return std::make_unique<OdeEngine>(s, false, 0, substeps);
+            },
+            false};
+  v.knob = std::move(knob);
+  return v;
+}
+
 }  // namespace
 
 std::vector<Variant> odeVariants(const Scene& /*scene*/) {
-  std::vector<Variant> v;
-  v.push_back(quickStep(kQuickStepIterations));
-  v.push_back(Variant{"ODE", "dWorldStep (dense LCP), " + commonSettings(),
-                      [](const Scene& s) -> std::unique_ptr<Engine> {
-                        checkFeatures(s);
-                        checkDenseSize(s);
-                        ensureOde();
-                        return std::make_unique<OdeEngine>(s, false, 0);
-                      },
-                      false});
-  return v;
+  return {quickStep(kQuickStepIterations), directStep(1)};
 }
 
 // The integrator table: dWorldStep (ODE's most accurate) at h and at h / 16.
 std::vector<Variant> odeIntegrators(const Scene& /*scene*/) {
-  std::vector<Variant> v;
-  for (int substeps : {1, 16}) {
-    std::string knob = "dWorldStep";
-    if (substeps > 1) knob += ", h / " + std::to_string(substeps);
-    Variant row{"ODE",
-                "dWorldStep (dense LCP), " + commonSettings() +
-                    (substeps > 1 ? ", " + std::to_string(substeps) + " substeps (h / " +
-                                        std::to_string(substeps) + ")"
-                                  : std::string()),
-                [substeps](const Scene& s) -> std::unique_ptr<Engine> {
-                  checkFeatures(s);
-                  checkDenseSize(s);
-                  ensureOde();
-                  return std::make_unique<OdeEngine>(s, false, 0, substeps);
-                },
-                false};
-    row.knob = std::move(knob);
-    v.push_back(std::move(row));
-  }
-  return v;
+  return {directStep(1), directStep(16)};
 }
 
 // ODE's default row is dWorldQuickStep, swept; dWorldStep has no count (and is refused by the
