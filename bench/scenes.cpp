@@ -1,10 +1,13 @@
 #include "scenes.hpp"
 
 #include "jacobi_sn.hpp"
+#include "spatial_slider_crank.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -418,6 +421,75 @@ Scene swingingChain(double duration) {
   Scene s = hingeChain(5);
   s.timestep = 1e-3;
   s.steps = stepsOf(duration, s.timestep);
+  return s;
+}
+
+Scene spatialSliderCrank(double duration) {
+  namespace sc = slider_crank;
+  Scene s;
+  s.name = "spatial slider-crank";
+  s.size = "3 bodies";
+  s.timestep = 0.01;
+  s.steps = stepsOf(duration, s.timestep);
+  s.gravity = Vec3(0.0, -sc::kGravity, 0.0);
+  s.metric = Metric::PathError;
+  s.energy = true;
+  const double q0 = sc::kStart;
+  const auto body = [&](const char* name, double mass, const Vec3& inertia, const Vec3& position,
+                        const Quat& orientation) {
+    Body b;
+    b.name = name;
+    b.mass = mass;
+    b.inertia = inertia;
+    b.position = position;
+    b.orientation = orientation;
+    s.bodies.push_back(b);
+  };
+  const double t = sc::kThickness;
+  body("crank", sc::kCrankMass, sc::boxInertia(sc::kCrankMass, sc::kCrank, t, t), sc::pin(q0) / 2,
+       Quat(Eigen::AngleAxisd(q0, Vec3::UnitZ())));
+  body("rod", sc::kRodMass, sc::boxInertia(sc::kRodMass, sc::kRod, t, t),
+       (sc::pin(q0) + sc::slider(q0)) / 2, Quat(sc::rod(q0)));
+  const double c = sc::kSliderSize;
+  body("slider", sc::kSliderMass, sc::boxInertia(sc::kSliderMass, c, c, c), sc::slider(q0),
+       Quat::Identity());
+  const auto joint = [&](Joint::Kind kind, int b1, int b2, const Vec3& anchor, const Vec3& axis) {
+    Joint j;
+    j.kind = kind;
+    j.body1 = b1;
+    j.body2 = b2;
+    j.anchor = anchor;
+    j.axis = axis;
+    s.joints.push_back(j);
+  };
+  joint(Joint::Kind::Hinge, -1, 0, Vec3::Zero(), Vec3::UnitZ());     // the crank's bearing
+  joint(Joint::Kind::Slider, -1, 2, sc::slider(q0), Vec3::UnitX());  // the guide
+  joint(Joint::Kind::Ball, 1, 0, sc::pin(q0), Vec3::UnitZ());        // the crank pin
+  joint(Joint::Kind::Ball, 1, 2, sc::slider(q0), Vec3::UnitZ());     // the slider pin
+  // The crank angle at every step from Lagrange's equation (balls at both ends of the rod), by
+  // fourth-order Runge-Kutta at 0.25 ms; computed once per duration.
+  static std::map<std::int64_t, std::shared_ptr<const std::vector<double>>> computed;
+  std::shared_ptr<const std::vector<double>>& angles = computed[s.steps];
+  if (!angles) {
+    const OneDofReference reference = sc::reference(sc::RodEnd::Ball);
+    auto q = std::make_shared<std::vector<double>>(1, q0);
+    double rate = 0.0;
+    for (std::int64_t n = 1; n <= s.steps; ++n) {
+      double next = q->back();
+      reference.advance(next, rate, s.timestep, 2.5e-4);
+      q->push_back(next);
+    }
+    angles = q;
+  }
+  const double h = s.timestep;
+  s.path = KnownPath{0, Vec3(sc::kCrank / 2, 0.0, 0.0), "minimal-coordinate solution",
+                     [angles, h](double time) -> std::optional<Vec3> {
+                       const auto n = static_cast<std::int64_t>(std::llround(time / h));
+                       if (n < 0 || n >= static_cast<std::int64_t>(angles->size()) ||
+                           std::abs(time - n * h) > 1e-9)
+                         return std::nullopt;
+                       return slider_crank::pin((*angles)[static_cast<std::size_t>(n)]);
+                     }};
   return s;
 }
 

@@ -44,5 +44,10 @@ Scene heavyTop(double duration);
 /// The 5-link hinge chain of hingeChain(5) at h = 1 ms (issue 19's chain): energy conserved, no
 /// closed form.
 Scene swingingChain(double duration);
+/// The spatial slider-crank of bench/spatial_slider_crank.hpp with a ball joint at each end of the
+/// rod (every engine has them; the symmetric rod never spins about itself), at rest with the crank
+/// 30 degrees up; h = 0.01 s. The crank pin against Lagrange's equation in the crank angle
+/// (one_dof_reference.hpp); energy conserved.
+Scene spatialSliderCrank(double duration);
 
 }  // namespace bench

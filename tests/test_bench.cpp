@@ -173,7 +173,8 @@ TEST(BenchScenes, SizesAreAsStated) {
 // The integrator table's mechanisms: each known path starts where its point is, A02's published
 // positions are met only at their instants, and the sizes are the benchmark's.
 TEST(BenchScenes, MechanismPathsStartAtTheirPoints) {
-  for (const Scene& s : {pendulumA01(1.0), fourBarA02(1.0), heavyTop(1.0)}) {
+  for (const Scene& s :
+       {pendulumA01(1.0), fourBarA02(1.0), heavyTop(1.0), spatialSliderCrank(1.0)}) {
     ASSERT_EQ(s.metric, Metric::PathError) << s.name;
     ASSERT_TRUE(s.path.has_value()) << s.name;
     ASSERT_TRUE(s.energy) << s.name;
@@ -194,12 +195,14 @@ TEST(BenchScenes, MechanismPathsStartAtTheirPoints) {
   EXPECT_EQ(fourBarA02(1.0).joints.size(), 121u);
   EXPECT_EQ(pendulumA01(100.0).steps, 10000);
   EXPECT_EQ(swingingChain(10.0).steps, 10000);
+  EXPECT_EQ(spatialSliderCrank(1.0).joints.size(), 4u);
 }
 
 // linx's accurate integrator through the adapter's integrator rows: the pendulum and the top on
-// their closed forms, the energy kept, the joints closed.
+// their closed forms, the slider-crank on its minimal-coordinate solution, the energy kept, the
+// joints closed.
 TEST(BenchLinx, AccurateRowsFollowTheClosedForms) {
-  for (Scene s : {pendulumA01(2.0), heavyTop(1.0)}) {
+  for (Scene s : {pendulumA01(2.0), heavyTop(1.0), spatialSliderCrank(2.0)}) {
     const std::vector<Variant> variants = linxIntegrators(s);
     const auto it = std::find_if(variants.begin(), variants.end(),
                                  [](const Variant& v) { return v.reference; });

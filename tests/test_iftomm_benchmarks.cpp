@@ -8,7 +8,7 @@
 #include "support.hpp"
 
 #include "jacobi_sn.hpp"
-#include "one_dof_reference.hpp"
+#include "spatial_slider_crank.hpp"
 
 #include <linx/scene.hpp>
 
@@ -142,54 +142,22 @@ TEST(IftommBenchmarks, A02FourBarThroughItsSingularPositions) {
   EXPECT_LT(joints, 1e-8);
 }
 
-// The spatial slider-crank (examples/benchmarks/spatial_slider_crank.json): a crank of 0.08 m on a
-// hinge about z, a 0.3 m connecting rod on a ball joint at the crank pin and a universal joint at
-// the slider, which runs along x on the line y = 0.1 m, z = 0.12 m (out of the crank's plane, so
-// every joint works in three dimensions); released from rest with the crank 30 degrees up, it
-// swings under gravity through the whole lower half-turn and back. One degree of freedom, no
-// redundant constraint. Reference: Lagrange's equation in the crank angle with the closed-form
-// kinematics (bench/one_dof_reference.hpp), nothing of linx's full-coordinate machinery.
-struct SliderCrank {
-  static constexpr double r = 0.08, l = 0.3, oy = 0.1, oz = 0.12, a = 0.01;
-
-  static Vec3 pin(double phi) { return {r * std::cos(phi), r * std::sin(phi), 0.0}; }
-  static Vec3 slider(double phi) {
-    const Vec3 p = pin(phi);
-    return {p.x() + std::sqrt(l * l - (oy - p.y()) * (oy - p.y()) - oz * oz), oy, oz};
-  }
-  static Mat3 rod(double phi) {  // x along the rod (slider to pin), y on the universal's cross
-    const Vec3 d = (pin(phi) - slider(phi)) / l;
-    const Vec3 y = Vec3::UnitX().cross(d).normalized();
-    Mat3 m;
-    m << d, y, d.cross(y);
-    return m;
-  }
-  static Vec3 box(double m, double x, double y, double z) {
-    return {m * (y * y + z * z) / 12, m * (x * x + z * z) / 12, m * (x * x + y * y) / 12};
-  }
-  static bench::OneDofReference reference() {
-    using Pose = std::pair<Vec3, Mat3>;
-    return bench::OneDofReference(
-        {{0.5, box(0.5, r, a, a),
-          [](double q) { return Pose(pin(q) / 2, Eigen::AngleAxisd(q, Vec3::UnitZ()).matrix()); }},
-         {0.5, box(0.5, l, a, a), [](double q) { return Pose((pin(q) + slider(q)) / 2, rod(q)); }},
-         {1.0, box(1.0, 0.05, 0.05, 0.05),
-          [](double q) { return Pose(slider(q), Mat3::Identity()); }}},
-        Vec3(0, -9.81, 0));
-  }
-};
-
+// The spatial slider-crank (examples/benchmarks/spatial_slider_crank.json; its geometry in
+// bench/spatial_slider_crank.hpp), the rod on a ball joint at the crank pin and a universal joint
+// at the slider: one degree of freedom, no redundant constraint. Reference: Lagrange's equation in
+// the crank angle with the closed-form kinematics, nothing of linx's full-coordinate machinery.
 TEST(IftommBenchmarks, SpatialSliderCrankFollowsItsMinimalCoordinateSolution) {
   Scene scene;
   World w = loadBenchmark("spatial_slider_crank.json", scene);
   const BodyId crank = *w.findBody("crank"), rod = *w.findBody("rod"),
                slider = *w.findBody("slider");
-  double q = std::numbers::pi / 6, rate = 0.0;
+  namespace sc = bench::slider_crank;
+  double q = sc::kStart, rate = 0.0;
   // The scene is the reference's geometry at its start.
-  EXPECT_LT((w.body(crank).position() - SliderCrank::pin(q) / 2).norm(), 1e-15);
-  EXPECT_LT((w.body(slider).position() - SliderCrank::slider(q)).norm(), 1e-15);
-  EXPECT_LT((w.body(rod).orientation().toRotationMatrix() - SliderCrank::rod(q)).norm(), 1e-15);
-  const bench::OneDofReference reference = SliderCrank::reference();
+  EXPECT_LT((w.body(crank).position() - sc::pin(q) / 2).norm(), 1e-15);
+  EXPECT_LT((w.body(slider).position() - sc::slider(q)).norm(), 1e-15);
+  EXPECT_LT((w.body(rod).orientation().toRotationMatrix() - sc::rod(q)).norm(), 1e-15);
+  const bench::OneDofReference reference = sc::reference(sc::RodEnd::Universal);
   const double h = w.settings().timestep, e0 = reference.energy(q, rate);
   EXPECT_NEAR(w.energy().total(), e0, 1e-14);
   const double duration = test::runLength(scene.duration, 2.0);
@@ -205,8 +173,7 @@ TEST(IftommBenchmarks, SpatialSliderCrankFollowsItsMinimalCoordinateSolution) {
     if (phi > std::numbers::pi / 2 + 0.1) phi -= 2 * std::numbers::pi;
     lowest = std::min(lowest, phi);
     angle = std::max(angle, std::abs(phi - q));
-    position =
-        std::max(position, std::abs(w.body(slider).position().x() - SliderCrank::slider(q).x()));
+    position = std::max(position, std::abs(w.body(slider).position().x() - sc::slider(q).x()));
     const Energy e = w.energy();
     drift = std::max(drift, std::abs(e.total() - e0));
     exchanged = std::max(exchanged, e.kinetic);
@@ -218,7 +185,7 @@ TEST(IftommBenchmarks, SpatialSliderCrankFollowsItsMinimalCoordinateSolution) {
       w.time(), angle, lowest, position, drift, exchanged, joints);
   EXPECT_LT(lowest, -std::numbers::pi);  // it swung through the lower half-turn
   EXPECT_LT(angle, 1e-6);
-  EXPECT_LT(position, 1e-3 * 2 * SliderCrank::r);  // high precision: 1e-3 of the stroke
+  EXPECT_LT(position, 1e-3 * 2 * sc::kCrank);  // high precision: 1e-3 of the stroke
   EXPECT_LT(drift, 1e-6 * exchanged);
   EXPECT_LT(joints, 1e-8);
 }
