@@ -435,32 +435,24 @@ Scene spatialSliderCrank(double duration) {
   s.metric = Metric::PathError;
   s.energy = true;
   const double q0 = sc::kStart;
-  const auto body = [&](const char* name, double mass, const Vec3& inertia, const Vec3& position,
-                        const Quat& orientation) {
-    Body b;
-    b.name = name;
-    b.mass = mass;
-    b.inertia = inertia;
-    b.position = position;
-    b.orientation = orientation;
-    s.bodies.push_back(b);
-  };
-  const double t = sc::kThickness;
-  body("crank", sc::kCrankMass, sc::boxInertia(sc::kCrankMass, sc::kCrank, t, t), sc::pin(q0) / 2,
-       Quat(Eigen::AngleAxisd(q0, Vec3::UnitZ())));
-  body("rod", sc::kRodMass, sc::boxInertia(sc::kRodMass, sc::kRod, t, t),
-       (sc::pin(q0) + sc::slider(q0)) / 2, Quat(sc::rod(q0)));
-  const double c = sc::kSliderSize;
-  body("slider", sc::kSliderMass, sc::boxInertia(sc::kSliderMass, c, c, c), sc::slider(q0),
-       Quat::Identity());
+  const double t = sc::kThickness, c = sc::kSliderSize;
+  s.bodies = {Body{.name = "crank",
+                   .mass = sc::kCrankMass,
+                   .inertia = sc::boxInertia(sc::kCrankMass, sc::kCrank, t, t),
+                   .position = sc::pin(q0) / 2,
+                   .orientation = Quat(Eigen::AngleAxisd(q0, Vec3::UnitZ()))},
+              Body{.name = "rod",
+                   .mass = sc::kRodMass,
+                   .inertia = sc::boxInertia(sc::kRodMass, sc::kRod, t, t),
+                   .position = (sc::pin(q0) + sc::slider(q0)) / 2,
+                   .orientation = Quat(sc::rod(q0))},
+              Body{.name = "slider",
+                   .mass = sc::kSliderMass,
+                   .inertia = sc::boxInertia(sc::kSliderMass, c, c, c),
+                   .position = sc::slider(q0)}};
   const auto joint = [&](Joint::Kind kind, int b1, int b2, const Vec3& anchor, const Vec3& axis) {
-    Joint j;
-    j.kind = kind;
-    j.body1 = b1;
-    j.body2 = b2;
-    j.anchor = anchor;
-    j.axis = axis;
-    s.joints.push_back(j);
+    s.joints.push_back(
+        Joint{.kind = kind, .body1 = b1, .body2 = b2, .anchor = anchor, .axis = axis});
   };
   joint(Joint::Kind::Hinge, -1, 0, Vec3::Zero(), Vec3::UnitZ());     // the crank's bearing
   joint(Joint::Kind::Slider, -1, 2, sc::slider(q0), Vec3::UnitX());  // the guide
