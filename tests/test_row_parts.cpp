@@ -1,7 +1,8 @@
 // Every row's Jacobian against the time derivative of its own position error, by central finite
 // differences along the motion u: dphi/dt must equal J u. Rows that are exact (point, linear,
 // the slider's position) must match off the creation pose too; rows exact only at C = 0 (lock,
-// align) are checked there.
+// align) are checked there. And each joint type's closed-form curvature (dJ/dt) u against the
+// same differences of its own rows, and against the centripetal acceleration of a turning bob.
 #include "random_state.hpp"
 #include "support.hpp"
 
@@ -87,6 +88,74 @@ TEST(RowParts, LockAndAlignRowsAreExactAtZeroError) {
     ASSERT_LT(lock, 1e-7) << "trial " << trial;
     ASSERT_LT(align, 1e-7) << "trial " << trial;
   }
+}
+
+// (J(+eps) - J(-eps)) u / (2 eps), the bodies moved along u: the curvature by differences, as the
+// accurate integrator measures it for a joint type without a closed form.
+double rowsRateChange(const Joint& j, const BodyState& b1, const BodyState& b2, std::size_t k) {
+  constexpr double eps = 1e-5;
+  const auto fillAt = [&](double dt) {
+    std::vector<Row> rows(static_cast<std::size_t>(j.maxRows()));
+    rows.resize(static_cast<std::size_t>(
+        j.fill(JointContext{advance(b1, dt), advance(b2, dt), 0.01, 0.2, 0.0}, rows)));
+    return rows;
+  };
+  const std::vector<Row> after = fillAt(eps), before = fillAt(-eps);
+  const Vec6 u1 = (Vec6() << b1.v, b1.w).finished(), u2 = (Vec6() << b2.v, b2.w).finished();
+  return ((after[k].Ja - before[k].Ja).dot(u1) + (after[k].Jb - before[k].Jb).dot(u2)) /
+         (2.0 * eps);
+}
+
+TEST(RowParts, ClosedFormCurvaturesMatchTheRowsDifferences) {
+  std::mt19937 rng(5);
+  int compared = 0;
+  for (const char* type : {"hinge", "ball", "fixed", "distance"}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const BodyState c1 = randomState(rng), c2 = randomState(rng);
+      JointDef def{.name = "j", .anchor = randomVec(rng, 1.0), .axis = randomVec(rng, 1.0)};
+      if (std::string(type) == "distance") def.anchor2 = c2.pose.position + randomVec(rng, 0.3);
+      const std::unique_ptr<Joint> j = makeJoint(type, def, c1, c2);
+      // Off the pose of creation: the joint open, every body moving and turning.
+      const BodyState b1 = randomState(rng), b2 = randomState(rng);
+      std::vector<Row> rows(static_cast<std::size_t>(j->maxRows()));
+      rows.resize(static_cast<std::size_t>(j->fill(JointContext{b1, b2, 0.01, 0.2, 0.0}, rows)));
+      std::vector<double> closed(rows.size());
+      j->curvature(JointContext{b1, b2, 0.01, 0.2, 0.0}, rows, closed);
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        ASSERT_TRUE(std::isfinite(closed[k])) << type << " row " << k;
+        const double numeric = rowsRateChange(*j, b1, b2, k);
+        EXPECT_NEAR(closed[k], numeric, 1e-7 * (1.0 + std::abs(numeric)))
+            << type << " trial " << trial << " row " << k;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 20 * (5 + 3 + 6 + 1));
+}
+
+// A bob L from a hinge at the origin, turning about z at w: its point rows' curvature is w^2 L
+// along the arm, so that J a = -(dJ/dt) u asks the bob for the centripetal acceleration -w^2 L;
+// the align rows' is zero (the axis does not turn).
+TEST(RowParts, TurningBobsCurvatureIsItsCentripetalAcceleration) {
+  constexpr double L = 0.7, w = 3.0;
+  const BodyState bob{Pose{Vec3(L, 0.0, 0.0), Quat::Identity()}, Vec3(0.0, w * L, 0.0),
+                      Vec3(0.0, 0.0, w)};
+  const BodyState world{};
+  const std::unique_ptr<Joint> j =
+      makeJoint("hinge", JointDef{.name = "pivot", .anchor = Vec3::Zero(), .axis = Vec3::UnitZ()},
+                bob, world);
+  const JointContext ctx{bob, world, 0.01, 0.2, 0.0};
+  std::vector<Row> rows(static_cast<std::size_t>(j->maxRows()));
+  rows.resize(static_cast<std::size_t>(j->fill(ctx, rows)));
+  std::vector<double> closed(rows.size());
+  j->curvature(ctx, rows, closed);
+  ASSERT_EQ(rows.size(), 5u);
+  // Row k holds e_k . (arm's acceleration); the bob's centre sits at the anchor: r1 = -L x.
+  EXPECT_NEAR(closed[0], w * w * L, 1e-12);
+  EXPECT_NEAR(closed[1], 0.0, 1e-12);
+  EXPECT_NEAR(closed[2], 0.0, 1e-12);
+  EXPECT_NEAR(closed[3], 0.0, 1e-12);
+  EXPECT_NEAR(closed[4], 0.0, 1e-12);
 }
 
 }  // namespace

@@ -261,6 +261,12 @@ class Joint {
   /// fill() numerically; joint types with a closed form override it.
   virtual Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                           std::span<const double> lambda) const;
+  /// The curvature (dJ/dt) u of each of the rows fill() wrote at ctx (`rows`), into `out`: how
+  /// fast J u changes at fixed velocities u (ctx's) as J turns and moves with the bodies. The
+  /// accurate integrator's equations need it (J a = -(dJ/dt) u). NaN for a row without a closed
+  /// form here (the default: every row), which the integrator then measures by differences.
+  virtual void curvature(const JointContext& ctx, std::span<const Row> rows,
+                         std::span<double> out) const;
 
   /// The anchor in body1's frame: where the joint's reaction torque is taken.
   const Vec3& anchor1() const { return anchor1_; }

@@ -10,6 +10,8 @@
 
 #include "math/rotation.hpp"
 
+#include <limits>
+
 namespace linx::joints {
 
 BallJoint::BallJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
@@ -31,6 +33,16 @@ int BallJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   row.phi = theta;
   row.key = 3;
   return limitRow(ctx, limits->upper, false, kAngularLimitMargin, row) ? 4 : 3;
+}
+
+void BallJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
+                          std::span<double> out) const {
+  const Vec3 point = pointCurvature(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b1, ctx.b2);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto slot = static_cast<int>(rows[k].key & 0xff);
+    out[k] =
+        slot < 3 ? point[slot] : std::numeric_limits<double>::quiet_NaN();  // the cone's limit row
+  }
 }
 
 JointCoordinates BallJoint::coordinates(const BodyState& b1, const BodyState& b2) const {

@@ -27,4 +27,9 @@ int DistanceJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   return limitRow(ctx, length_, false, kLinearLimitMargin, row) ? 1 : 0;
 }
 
+void DistanceJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
+                              std::span<double> out) const {
+  if (!rows.empty()) out[0] = points_.curvature(ctx.b1, ctx.b2);
+}
+
 }  // namespace linx::joints

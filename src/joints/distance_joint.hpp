@@ -10,6 +10,8 @@ class DistanceJoint final : public Joint {
   std::string_view type() const override { return "distance"; }
   int maxRows() const override { return 1; }
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
+  void curvature(const JointContext& ctx, std::span<const Row> rows,
+                 std::span<double> out) const override;
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
 
  private:

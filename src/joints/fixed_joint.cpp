@@ -16,6 +16,15 @@ int FixedJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   return 6;
 }
 
+void FixedJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
+                           std::span<double> out) const {
+  const Vec3 point = pointCurvature(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b1, ctx.b2);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto slot = static_cast<int>(rows[k].key & 0xff);
+    out[k] = slot < 3 ? point[slot] : 0.0;  // the lock rows' axes are the world's
+  }
+}
+
 Mat12 FixedJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,
                             std::span<const double> lambda) const {
   // The lock rows' axes are the world's: they do not turn.

@@ -10,6 +10,8 @@ class FixedJoint final : public Joint {
   std::string_view type() const override { return "fixed"; }
   int maxRows() const override { return 6; }
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
+  void curvature(const JointContext& ctx, std::span<const Row> rows,
+                 std::span<double> out) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;
   JointCoordinates coordinates(const BodyState&, const BodyState&) const override { return {}; }

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -108,6 +109,12 @@ Eigen::Matrix<double, 12, 1> force(std::span<const Row> rows, std::span<const Ro
 }
 
 }  // namespace
+
+void Joint::curvature(const JointContext& /*ctx*/, std::span<const Row> rows,
+                      std::span<double> out) const {
+  std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(rows.size()),
+            std::numeric_limits<double>::quiet_NaN());
+}
 
 Mat12 Joint::stiffness(const JointContext& ctx, std::span<const Row> rows,
                        std::span<const double> lambda) const {

@@ -88,6 +88,19 @@ void PointPair::row(const BodyState& b1, const BodyState& b2, Row& r) const {
   r.phi = distance;
 }
 
+double PointPair::curvature(const BodyState& b1, const BodyState& b2) const {
+  const Vec3 r1 = b1.pose.orientation * point1, r2 = b2.pose.orientation * point2;
+  const Vec3 d = (b1.pose.position + r1) - (b2.pose.position + r2);
+  const double distance = d.norm();
+  if (!(distance > 1e-12)) return 0.0;  // row(): a fixed direction where the points meet
+  const Vec3 n = d / distance;
+  const Vec3 turn1 = b1.w.cross(r1), turn2 = b2.w.cross(r2);
+  const Vec3 rate = b1.v + turn1 - b2.v - turn2;  // d'
+  const Vec3 n_rate = (rate - n * n.dot(rate)) / distance;
+  return n_rate.dot(b1.v - b2.v) + (turn1.cross(n) + r1.cross(n_rate)).dot(b1.w) -
+         (turn2.cross(n) + r2.cross(n_rate)).dot(b2.w);
+}
+
 Arms Arms::of(const JointFrames& f, const BodyState& b1, const BodyState& b2) {
   Arms a;
   a.r1 = b1.pose.orientation * f.anchor1;
@@ -111,6 +124,10 @@ void pointRows(const Arms& arms, std::span<Row, 3> rows) {
     rows[k].Jb = block(-e, -arms.r2.cross(e));
     rows[k].phi = arms.d[k];
   }
+}
+
+Vec3 pointCurvature(const Arms& arms, const BodyState& b1, const BodyState& b2) {
+  return b1.w.cross(b1.w.cross(arms.r1)) - b2.w.cross(b2.w.cross(arms.r2));
 }
 
 void lockRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,

@@ -81,6 +81,9 @@ struct PointPair {
   /// The row of C (phi = |d|). Points that meet have no direction between them: any will do, C
   /// is at its extreme there.
   void row(const BodyState& b1, const BodyState& b2, Row& row) const;
+  /// The row's curvature (dJ/dt) u: n turns as the points move across it, n' = (d' - n (n . d'))
+  /// / |d|, and the lever arms turn with their bodies.
+  double curvature(const BodyState& b1, const BodyState& b2) const;
 };
 
 /// World-frame lever arms (centre of mass to anchor) and anchor separation of the current state.
@@ -97,6 +100,14 @@ Quat relativeRotation(const JointFrames& f, const BodyState& b1, const BodyState
 double axisAngle(const JointFrames& f, const BodyState& b1, const BodyState& b2, double last);
 
 void pointRows(const Arms& arms, std::span<Row, 3> rows);
+/// The curvature (dJ/dt) u of pointRows' three rows (the lever arms turn with their bodies):
+/// w1 x (w1 x r1) - w2 x (w2 x r2), row k its component k.
+Vec3 pointCurvature(const Arms& arms, const BodyState& b1, const BodyState& b2);
+/// The curvature of a row J = [ 0, t | 0, -t ] whose direction t is fixed in body 2 (alignRows,
+/// angularRow about a body-2 axis): (w2 x t) . (w1 - w2). A lock row's t is the world's: 0.
+inline double turningCurvature(const Vec3& t, const BodyState& b1, const BodyState& b2) {
+  return b2.w.cross(t).dot(b1.w - b2.w);
+}
 void lockRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
               std::span<Row, 3> rows);
 void alignRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,

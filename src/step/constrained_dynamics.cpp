@@ -206,6 +206,25 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
                                            const JointContext& ctx, std::span<const Row> rows,
                                            double eps) {
   const Joint& j = *joints[ji];
+  // In closed form where the joint type has it: the rows' own turning at the bodies' velocities
+  // (a body that is not moving does not turn: its velocity is taken as zero, as the differences
+  // below leave it in place).
+  JointContext still = ctx;
+  if (!isMoving(j.body1(), moving)) still.b1.v = still.b1.w = Vec3::Zero();
+  if (!isMoving(j.body2(), moving)) still.b2.v = still.b2.w = Vec3::Zero();
+  closed_.resize(rows.size());
+  j.curvature(still, rows, closed_);
+  bool known = true;
+  for (std::size_t k = 0; k < rows.size() && known; ++k)
+    known = !(actsOnMoving(rows[k], moving) && holdsExactly(rows[k], settings)) ||
+            std::isfinite(closed_[k]);
+  if (known) {
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      if (actsOnMoving(rows[k], moving) && holdsExactly(rows[k], settings))
+        curvature_.push_back(closed_[k]);
+    return;
+  }
+  // Otherwise by a central difference of the rows filled with the bodies moved back and forth.
   const auto fillAt = [&](double dt, std::vector<Row>& scratch) {
     const std::span<Row> slots = slotsFor(j, scratch);
     return std::span<const Row>(slots).first(static_cast<std::size_t>(

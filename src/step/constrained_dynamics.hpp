@@ -50,8 +50,9 @@ class ConstrainedDynamics {
   void gather(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
               const SolverSettings& settings, std::span<const std::uint8_t> moving, double time);
   /// The (dJ/dt) u of joint `ji`'s rows `rows` (filled from `ctx`) that hold exactly, appended to
-  /// curvature_: by the joint's rows filled again with its moving bodies moved by -eps and +eps
-  /// along their velocities.
+  /// curvature_: in closed form where the joint type has it (Joint::curvature), else by the
+  /// joint's rows filled again with its moving bodies moved by -eps and +eps along their
+  /// velocities.
   void measureCurvature(std::span<const std::unique_ptr<Joint>> joints, std::size_t ji,
                         std::span<const Body> bodies, const SolverSettings& settings,
                         std::span<const std::uint8_t> moving, const JointContext& ctx,
@@ -61,7 +62,7 @@ class ConstrainedDynamics {
   void refine(std::size_t equalities);
 
   std::vector<Row> rows_, forces_, slots_, before_, after_;
-  std::vector<double> curvature_, lambda_, residual_;
+  std::vector<double> curvature_, closed_, lambda_, residual_;
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
 };
