@@ -109,11 +109,12 @@ double rowsRateChange(const Joint& j, const BodyState& b1, const BodyState& b2, 
 TEST(RowParts, ClosedFormCurvaturesMatchTheRowsDifferences) {
   std::mt19937 rng(5);
   int compared = 0;
-  for (const char* type : {"hinge", "ball", "fixed", "distance"}) {
+  for (const char* type : {"hinge", "ball", "fixed", "distance", "slider", "universal"}) {
     for (int trial = 0; trial < 20; ++trial) {
       const BodyState c1 = randomState(rng), c2 = randomState(rng);
       JointDef def{.name = "j", .anchor = randomVec(rng, 1.0), .axis = randomVec(rng, 1.0)};
       if (std::string(type) == "distance") def.anchor2 = c2.pose.position + randomVec(rng, 0.3);
+      if (std::string(type) == "universal") def.axis2 = def.axis.cross(randomVec(rng, 1.0));
       const std::unique_ptr<Joint> j = makeJoint(type, def, c1, c2);
       // Off the pose of creation: the joint open, every body moving and turning.
       const BodyState b1 = randomState(rng), b2 = randomState(rng);
@@ -130,7 +131,7 @@ TEST(RowParts, ClosedFormCurvaturesMatchTheRowsDifferences) {
       }
     }
   }
-  EXPECT_EQ(compared, 20 * (5 + 3 + 6 + 1));
+  EXPECT_EQ(compared, 20 * (5 + 3 + 6 + 1 + 5 + 4));
 }
 
 // A bob L from a hinge at the origin, turning about z at w: its point rows' curvature is w^2 L

@@ -161,6 +161,14 @@ void linearRow(const Arms& arms, const Vec3& n, Row& row) {
   row.phi = n.dot(arms.d);
 }
 
+double linearCurvature(const Arms& arms, const Vec3& n, const BodyState& b1, const BodyState& b2) {
+  const Vec3 turn1 = b1.w.cross(arms.r1), turn2 = b2.w.cross(arms.r2);
+  const Vec3 d_rate = b1.v + turn1 - b2.v - turn2;
+  const Vec3 n_rate = b2.w.cross(n);
+  return n_rate.dot(b1.v - b2.v) + (turn1.cross(n) + arms.r1.cross(n_rate)).dot(b1.w) -
+         ((turn2 + d_rate).cross(n) + (arms.r2 + arms.d).cross(n_rate)).dot(b2.w);
+}
+
 void angularRow(const Vec3& a, double theta, Row& row) {
   row.Ja = block(Vec3::Zero(), a);
   row.Jb = block(Vec3::Zero(), -a);

@@ -57,6 +57,12 @@ struct Cross {
   Vec3 a1(const BodyState& b1) const { return b1.pose.orientation * arm1; }
   Vec3 a2(const BodyState& b2) const { return b2.pose.orientation * arm2; }
   void row(const BodyState& b1, const BodyState& b2, Row& row) const;
+  /// The row's curvature (dJ/dt) u: n = a1 x a2 turns with both arms, (w1 x a1) x a2 + a1 x
+  /// (w2 x a2), against w1 - w2.
+  double curvature(const BodyState& b1, const BodyState& b2) const {
+    const Vec3 u1 = a1(b1), u2 = a2(b2);
+    return (b1.w.cross(u1).cross(u2) + u1.cross(b2.w.cross(u2))).dot(b1.w - b2.w);
+  }
   /// (angle1, angle2) in (-pi, pi], zero at creation: each arm as the other body sees it,
   /// against where it was at creation (to be unwrapped).
   Eigen::Vector2d angles(const BodyState& b1, const BodyState& b2) const;
@@ -114,6 +120,9 @@ void alignRows(const JointFrames& f, const BodyState& b1, const BodyState& b2,
                std::span<Row, 2> rows);
 /// One linear row along the world direction n (fixed in body 2), C = n . d.
 void linearRow(const Arms& arms, const Vec3& n, Row& row);
+/// The curvature (dJ/dt) u of linearRow's row: n turns with body 2, the lever arms with their
+/// bodies, and d moves at d' = v1 + w1 x r1 - v2 - w2 x r2.
+double linearCurvature(const Arms& arms, const Vec3& n, const BodyState& b1, const BodyState& b2);
 /// One angular row about the world axis a, C = theta.
 void angularRow(const Vec3& a, double theta, Row& row);
 

@@ -9,6 +9,8 @@
 //   limits, motor, spring, friction on s: joints/row_parts.hpp, coordinateRows
 #include "joints/slider_joint.hpp"
 
+#include <limits>
+
 namespace linx::joints {
 
 SliderJoint::SliderJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
@@ -38,6 +40,19 @@ int SliderJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
   constexpr double kMargins[] = {kLinearLimitMargin};
   return freeCoordinateRows(
       ctx, def(), kMargins, [&](std::size_t, Row& row) { linearRow(arms, n, row); }, rows, 5);
+}
+
+void SliderJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
+                            std::span<double> out) const {
+  const Arms arms = Arms::of(frames_, ctx.b1, ctx.b2);
+  Vec3 t[2];
+  frames_.tangents(ctx.b2, t[0], t[1]);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto slot = static_cast<int>(rows[k].key & 0xff);
+    out[k] = slot < 3   ? 0.0  // the lock rows' axes are the world's
+             : slot < 5 ? linearCurvature(arms, t[slot - 3], ctx.b1, ctx.b2)
+                        : std::numeric_limits<double>::quiet_NaN();  // the coordinate's row
+  }
 }
 
 }  // namespace linx::joints

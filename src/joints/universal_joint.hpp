@@ -10,6 +10,8 @@ class UniversalJoint final : public Joint {
   std::string_view type() const override { return "universal"; }
   int maxRows() const override { return 4 + 2 * kCoordinateRows; }  // + the two angles' rows
   int fill(const JointContext& ctx, std::span<Row> rows) const override;
+  void curvature(const JointContext& ctx, std::span<const Row> rows,
+                 std::span<double> out) const override;
   Mat12 stiffness(const JointContext& ctx, std::span<const Row> rows,
                   std::span<const double> lambda) const override;
   JointCoordinates coordinates(const BodyState& b1, const BodyState& b2) const override;
