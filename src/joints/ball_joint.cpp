@@ -10,8 +10,6 @@
 
 #include "math/rotation.hpp"
 
-#include <limits>
-
 namespace linx::joints {
 
 BallJoint::BallJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
@@ -38,11 +36,9 @@ int BallJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
 void BallJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
                           std::span<double> out) const {
   const Vec3 point = pointCurvature(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b1, ctx.b2);
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto slot = static_cast<int>(rows[k].key & 0xff);
-    out[k] =
-        slot < 3 ? point[slot] : std::numeric_limits<double>::quiet_NaN();  // the cone's limit row
-  }
+  curvatureBySlot(rows, out, [&](int slot) {
+    return slot < 3 ? point[slot] : kMeasuredCurvature;  // the cone's limit row
+  });
 }
 
 JointCoordinates BallJoint::coordinates(const BodyState& b1, const BodyState& b2) const {

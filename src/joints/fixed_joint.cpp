@@ -19,10 +19,9 @@ int FixedJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
 void FixedJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
                            std::span<double> out) const {
   const Vec3 point = pointCurvature(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b1, ctx.b2);
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto slot = static_cast<int>(rows[k].key & 0xff);
-    out[k] = slot < 3 ? point[slot] : 0.0;  // the lock rows' axes are the world's
-  }
+  curvatureBySlot(rows, out, [&](int slot) {
+    return slot < 3 ? point[slot] : 0.0;  // the lock rows' axes are the world's
+  });
 }
 
 Mat12 FixedJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,

@@ -11,7 +11,6 @@
 #include "world/state_archive.hpp"
 
 #include <cmath>
-#include <limits>
 
 namespace linx::joints {
 
@@ -58,12 +57,11 @@ void HingeJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
   const Vec3 point = pointCurvature(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b1, ctx.b2);
   Vec3 t[2];
   frames_.tangents(ctx.b2, t[0], t[1]);
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto slot = static_cast<int>(rows[k].key & 0xff);
-    out[k] = slot < 3   ? point[slot]
-             : slot < 5 ? turningCurvature(t[slot - 3], ctx.b1, ctx.b2)
-                        : std::numeric_limits<double>::quiet_NaN();  // a coordinate's row
-  }
+  curvatureBySlot(rows, out, [&](int slot) {
+    return slot < 3   ? point[slot]
+           : slot < 5 ? turningCurvature(t[slot - 3], ctx.b1, ctx.b2)
+                      : kMeasuredCurvature;  // a coordinate's row
+  });
 }
 
 Mat12 HingeJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -112,8 +111,7 @@ Eigen::Matrix<double, 12, 1> force(std::span<const Row> rows, std::span<const Ro
 
 void Joint::curvature(const JointContext& /*ctx*/, std::span<const Row> rows,
                       std::span<double> out) const {
-  std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(rows.size()),
-            std::numeric_limits<double>::quiet_NaN());
+  joints::curvatureBySlot(rows, out, [](int) { return joints::kMeasuredCurvature; });
 }
 
 Mat12 Joint::stiffness(const JointContext& ctx, std::span<const Row> rows,

@@ -19,6 +19,7 @@
 #include <linx/row.hpp>
 
 #include <cmath>
+#include <limits>
 
 namespace linx::joints {
 
@@ -106,6 +107,13 @@ Quat relativeRotation(const JointFrames& f, const BodyState& b1, const BodyState
 double axisAngle(const JointFrames& f, const BodyState& b1, const BodyState& b2, double last);
 
 void pointRows(const Arms& arms, std::span<Row, 3> rows);
+/// Joint::curvature of a row whose curvature has no closed form here: measured by differences.
+inline constexpr double kMeasuredCurvature = std::numeric_limits<double>::quiet_NaN();
+/// out[k] = of(slot) for each of `rows`, slot its joint's local slot (Row::key's low byte).
+template <class F>
+void curvatureBySlot(std::span<const Row> rows, std::span<double> out, F&& of) {
+  for (std::size_t k = 0; k < rows.size(); ++k) out[k] = of(static_cast<int>(rows[k].key & 0xff));
+}
 /// The curvature (dJ/dt) u of pointRows' three rows (the lever arms turn with their bodies):
 /// w1 x (w1 x r1) - w2 x (w2 x r2), row k its component k.
 Vec3 pointCurvature(const Arms& arms, const BodyState& b1, const BodyState& b2);

@@ -9,8 +9,6 @@
 //   limits, motor, spring, friction on s: joints/row_parts.hpp, coordinateRows
 #include "joints/slider_joint.hpp"
 
-#include <limits>
-
 namespace linx::joints {
 
 SliderJoint::SliderJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
@@ -47,12 +45,11 @@ void SliderJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
   const Arms arms = Arms::of(frames_, ctx.b1, ctx.b2);
   Vec3 t[2];
   frames_.tangents(ctx.b2, t[0], t[1]);
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto slot = static_cast<int>(rows[k].key & 0xff);
-    out[k] = slot < 3   ? 0.0  // the lock rows' axes are the world's
-             : slot < 5 ? linearCurvature(arms, t[slot - 3], ctx.b1, ctx.b2)
-                        : std::numeric_limits<double>::quiet_NaN();  // the coordinate's row
-  }
+  curvatureBySlot(rows, out, [&](int slot) {
+    return slot < 3   ? 0.0  // the lock rows' axes are the world's
+           : slot < 5 ? linearCurvature(arms, t[slot - 3], ctx.b1, ctx.b2)
+                      : kMeasuredCurvature;  // the coordinate's row
+  });
 }
 
 }  // namespace linx::joints

@@ -13,8 +13,6 @@
 
 #include "world/state_archive.hpp"
 
-#include <limits>
-
 namespace linx::joints {
 
 UniversalJoint::UniversalJoint(const JointDef& def, const BodyState& b1, const BodyState& b2)
@@ -59,12 +57,11 @@ int UniversalJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
 void UniversalJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
                                std::span<double> out) const {
   const Vec3 point = pointCurvature(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b1, ctx.b2);
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const auto slot = static_cast<int>(rows[k].key & 0xff);
-    out[k] = slot < 3    ? point[slot]
-             : slot == 3 ? cross_.curvature(ctx.b1, ctx.b2)
-                         : std::numeric_limits<double>::quiet_NaN();  // the angles' rows
-  }
+  curvatureBySlot(rows, out, [&](int slot) {
+    return slot < 3    ? point[slot]
+           : slot == 3 ? cross_.curvature(ctx.b1, ctx.b2)
+                       : kMeasuredCurvature;  // the angles' rows
+  });
 }
 
 Mat12 UniversalJoint::stiffness(const JointContext& ctx, std::span<const Row> rows,
