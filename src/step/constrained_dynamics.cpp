@@ -214,17 +214,16 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
   if (!isMoving(j.body2(), moving)) still.b2.v = still.b2.w = Vec3::Zero();
   closed_.resize(rows.size());
   j.curvature(still, rows, closed_);
+  const std::size_t start = curvature_.size();
   bool known = true;
-  for (std::size_t k = 0; k < rows.size() && known; ++k)
-    known = !(actsOnMoving(rows[k], moving) && holdsExactly(rows[k], settings)) ||
-            std::isfinite(closed_[k]);
-  if (known) {
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      if (actsOnMoving(rows[k], moving) && holdsExactly(rows[k], settings))
-        curvature_.push_back(closed_[k]);
-    return;
+  for (std::size_t k = 0; k < rows.size() && known; ++k) {
+    if (!actsOnMoving(rows[k], moving) || !holdsExactly(rows[k], settings)) continue;
+    known = std::isfinite(closed_[k]);
+    curvature_.push_back(closed_[k]);
   }
+  if (known) return;
   // Otherwise by a central difference of the rows filled with the bodies moved back and forth.
+  curvature_.resize(start);
   const auto fillAt = [&](double dt, std::vector<Row>& scratch) {
     const std::span<Row> slots = slotsFor(j, scratch);
     return std::span<const Row>(slots).first(static_cast<std::size_t>(
