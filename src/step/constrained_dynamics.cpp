@@ -274,7 +274,10 @@ void ConstrainedDynamics::refine(std::size_t equalities) {
     });
     residual_[k] = rows_[k].speed - rate;
   }
-  if (!solver_.backSolve(residual_)) return;
+  if (dense_)
+    dense_solver_.backSolve(residual_);
+  else if (!solver_.backSolve(residual_))
+    return;
   for (std::size_t k = 0; k < equalities; ++k) {
     const double d = residual_[k];
     lambda_[k] += d;
@@ -351,7 +354,9 @@ void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> 
   solver::Problem problem{std::span<const Row>(rows_).first(equalities), solver_bodies_,
                           std::span<double>(lambda_).first(equalities), 1.0, threads};
   if (equalities > 0) {
-    solver_.solve(problem, exact);
+    // A few bodies' rows dense; else (or when the dense factorization fails) the exact solver.
+    dense_ = dense_solver_.solve(problem);
+    if (!dense_) solver_.solve(problem, exact);
     refine(equalities);
   }
   for (std::size_t i = 0; i < bodies.size(); ++i) {

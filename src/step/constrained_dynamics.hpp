@@ -14,6 +14,7 @@
 #include <linx/row.hpp>
 #include <linx/world.hpp>
 
+#include "solver/dense_equalities.hpp"
 #include "solver/exact_solver.hpp"
 #include "solver/problem.hpp"
 
@@ -65,6 +66,8 @@ class ConstrainedDynamics {
   std::vector<double> curvature_, closed_, lambda_, residual_;
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
+  solver::DenseEqualities dense_solver_;
+  bool dense_ = false;  // the last solve was dense_solver_'s
 };
 
 /// Whether the accurate integrator applies a joint row as a force: a coordinate force

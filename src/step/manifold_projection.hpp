@@ -5,7 +5,8 @@
 //   dx = M^-1 J^T dl,   (J M^-1 J^T) dl = -phi,
 // and the velocities then lose their component off the manifold's tangent in the same metric,
 //   u+ = u + M^-1 J^T l,   (J M^-1 J^T) l = -J u,
-// both solved by the exact solver (redundant rows included). Both corrections are of the size of
+// both solved dense for a few bodies (solver/dense_equalities) and otherwise, or when rows are
+// redundant, by the exact solver. Both corrections are of the size of
 // the step's local error, which the step's control keeps below its tolerance.
 #pragma once
 
@@ -14,6 +15,7 @@
 #include <linx/row.hpp>
 #include <linx/solver.hpp>
 
+#include "solver/dense_equalities.hpp"
 #include "solver/exact_solver.hpp"
 #include "solver/problem.hpp"
 
@@ -43,6 +45,7 @@ class ManifoldProjection {
   std::vector<double> lambda_;
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
+  solver::DenseEqualities dense_;
 };
 
 }  // namespace linx::step

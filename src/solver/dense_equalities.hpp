@@ -1,0 +1,46 @@
+// Small systems of equality rows, solved dense: the accurate integrator's acceleration solve on an
+// island of a few bodies (a pendulum, a top, a short chain or a small loop). At that size the
+// exact solver's machinery (its active set, the tree analysis, the block factorization of bodies
+// and rows together, refinement against the unshifted matrix) costs more than the solve: here
+// A = J M^-1 J^T + diag(cfm) is formed entry by entry and factored by Cholesky (Eigen's LLT),
+// all in fixed-capacity storage.
+#pragma once
+
+#include "solver/problem.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Dense>
+
+#include <array>
+#include <cstddef>
+#include <span>
+
+namespace linx::solver {
+
+class DenseEqualities {
+ public:
+  /// The most rows solved here: beyond it the tree and sparse factorizations are cheaper.
+  static constexpr int kMaxRows = 24;
+
+  /// Solves A lambda = xi - J u* for rows that are all equalities (their bounds are not looked
+  /// at), A = J M^-1 J^T + diag(cfm); the bodies then hold u* + M^-1 J^T lambda, and lambda the
+  /// impulses. Returns false, having changed nothing, when there are more than kMaxRows rows, A
+  /// is not positive definite, or one of its pivots is below `min_pivot` of its diagonal entry
+  /// (with no cfm: redundant rows, whose impulses only a regularized solve keeps finite): the
+  /// caller solves otherwise.
+  bool solve(Problem& p, double min_pivot = 0.0);
+  /// x (one entry per row) <- A^-1 x with the last successful solve's factorization.
+  void backSolve(std::span<double> x) const;
+
+ private:
+  using Matrix =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxRows, kMaxRows>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxRows, 1>;
+
+  std::array<std::array<Vec6, 4>, kMaxRows> w_;  // M^-1 J^T of each row's blocks a, b, c, d
+  Matrix a_;
+  Eigen::LLT<Matrix> llt_;
+  Vector x_;
+};
+
+}  // namespace linx::solver
