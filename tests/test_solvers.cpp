@@ -1,10 +1,14 @@
 // The two solvers against each other and against small problems with known solutions.
 #include "mechanisms.hpp"
 
+#include "solver/dense_equalities.hpp"
 #include "solver/exact_solver.hpp"
 #include "solver/pgs_solver.hpp"
+#include "solver/row_system.hpp"
 
 #include <gtest/gtest.h>
+
+#include <random>
 
 namespace linx {
 namespace {
@@ -111,6 +115,75 @@ TEST(Solvers, ExactSolverSurvivesAndReportsRedundantRows) {
   EXPECT_NEAR(lambda[0] + lambda[1] + lambda[2], 2.0, 1e-9);
   EXPECT_NEAR(bodies[0].v.z(), 0.0, 1e-9);
   EXPECT_LT(r.residual, 1e-9);
+}
+
+TEST(Solvers, DenseEqualitiesMatchTheExactSolver) {
+  // Random bilateral rows between three bodies and the world (the accurate integrator's small
+  // islands): the dense solve must give the exact solver's impulses and velocities, and then
+  // J u = xi - cfm lambda on every row.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int n = 3 + trial % 10;
+    std::vector<Row> rows(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) {
+      Row& r = rows[static_cast<std::size_t>(k)];
+      r.body_a = k % 3;
+      r.body_b = k % 4 == 3 ? -1 : (k + 1) % 3;
+      for (int c = 0; c < 6; ++c) {
+        r.Ja[c] = u(rng);
+        r.Jb[c] = u(rng);
+      }
+      r.speed = u(rng);
+      r.erp = 0.0;
+      r.cfm = 1e-6 * (1.0 + u(rng));
+    }
+    std::vector<solver::SolverBody> start;
+    for (int b = 0; b < 3; ++b) {
+      const Mat3 root = Mat3::Random() + 2.0 * Mat3::Identity();
+      start.push_back({1.0 / (1.0 + b), root * root.transpose(), Vec3::Random(), Vec3::Random()});
+    }
+    auto dense_bodies = start, exact_bodies = start;
+    std::vector<double> dense(static_cast<std::size_t>(n), 0.0), exact = dense;
+    solver::Problem dp{rows, dense_bodies, dense, 1.0};
+    solver::Problem ep{rows, exact_bodies, exact, 1.0};
+    solver::DenseEqualities d;
+    ASSERT_TRUE(d.solve(dp)) << "trial " << trial;
+    solver::ExactSolver().solve(ep, SolverSettings{});
+    for (int k = 0; k < n; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      EXPECT_NEAR(dense[i], exact[i], 1e-8 * (1.0 + std::abs(exact[i]))) << "trial " << trial;
+      const double rate = solver::RowSystem::rate(rows[i], dense_bodies);
+      EXPECT_NEAR(rate, rows[i].speed - rows[i].cfm * dense[i], 1e-10) << "trial " << trial;
+    }
+    for (std::size_t b = 0; b < 3; ++b)
+      EXPECT_LT((dense_bodies[b].w - exact_bodies[b].w).norm(), 1e-8) << "trial " << trial;
+  }
+}
+
+TEST(Solvers, DenseEqualitiesLeaveRedundantRowsWithoutCfmToTheExactSolver) {
+  // The same row three times: A is rank one. Asked for pivots of at least 1e-8 of the diagonal,
+  // the dense solve refuses it and leaves the body alone; with cfm the rows share the impulse
+  // that stops the body (to cfm's give).
+  std::vector<Row> rows(3);
+  for (Row& r : rows) {
+    r.Ja << 0, 0, 1, 0, 0, 0;
+    r.body_a = 0;
+    r.erp = 0.0;
+    r.cfm = 0.0;
+  }
+  std::vector<solver::SolverBody> bodies{
+      solver::SolverBody{0.5, Mat3::Identity(), Vec3(0, 0, -1), Vec3::Zero()}};
+  std::vector<double> lambda(3, 0.0);
+  solver::Problem p{rows, bodies, lambda, 1.0};
+  solver::DenseEqualities d;
+  EXPECT_FALSE(d.solve(p, 1e-8));
+  EXPECT_EQ(bodies[0].v.z(), -1.0);
+  for (Row& r : rows) r.cfm = 1e-9;
+  ASSERT_TRUE(d.solve(p));
+  EXPECT_NEAR(lambda[0] + lambda[1] + lambda[2], 2.0, 1e-7);
+  EXPECT_NEAR(lambda[0], lambda[2], 1e-6);  // equal shares, to round-off times A's 2e9 condition
+  EXPECT_NEAR(bodies[0].v.z(), 0.0, 1e-8);
 }
 
 TEST(Solvers, RedundantRowCountDoesNotDependOnMassScale) {

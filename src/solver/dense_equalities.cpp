@@ -1,6 +1,10 @@
 #include "solver/dense_equalities.hpp"
 
+#include "solver/dense_ldlt.hpp"
 #include "solver/row_system.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 namespace linx::solver {
 
@@ -21,19 +25,14 @@ bool DenseEqualities::solve(Problem& p, double min_pivot) {
     const auto blocks = blocksOf(p.rows[static_cast<std::size_t>(k)]);
     for (std::size_t s = 0; s < blocks.size(); ++s) {
       const auto [body, j] = blocks[s];
+      if (body < 0) continue;  // (its block is never read)
       Vec6& w = w_[static_cast<std::size_t>(k)][s];
-      if (body < 0) {
-        w.setZero();
-        continue;
-      }
       const SolverBody& b = p.bodies[static_cast<std::size_t>(body)];
       w.head<3>() = b.inv_mass * j->head<3>();
       w.tail<3>() = b.inv_inertia * j->tail<3>();
     }
   }
   // A_kl = sum over the bodies rows k and l share of J_k W_l; the right-hand side xi - J u*.
-  a_.resize(n, n);
-  x_.resize(n);
   for (int k = 0; k < n; ++k) {
     const Row& rk = p.rows[static_cast<std::size_t>(k)];
     const auto bk = blocksOf(rk);
@@ -45,19 +44,18 @@ bool DenseEqualities::solve(Problem& p, double min_pivot) {
         for (std::size_t s = 0; s < bl.size(); ++s)
           if (bl[s].first == body) v += j->dot(w_[static_cast<std::size_t>(l)][s]);
       }
-      a_(k, l) = a_(l, k) = v;
+      a_[static_cast<std::size_t>(l + k * n)] = v;  // the lower triangle
     }
-    x_[k] = rk.target(p.h) - RowSystem::rate(rk, p.bodies);
+    x_[static_cast<std::size_t>(k)] = rk.target(p.h) - RowSystem::rate(rk, p.bodies);
   }
-  llt_.compute(a_);
-  if (llt_.info() != Eigen::Success) return false;
-  const Matrix& factor = llt_.matrixLLT();
-  for (int k = 0; k < n; ++k)
-    if (!(factor(k, k) * factor(k, k) >= min_pivot * a_(k, k))) return false;
-  llt_.solveInPlace(x_);
-  if (!x_.allFinite()) return false;
+  n_ = 0;
+  if (!(factorLdlt(a_.data(), n) > min_pivot)) return false;
+  solveLdlt(a_.data(), n, x_.data());
+  if (!std::all_of(x_.begin(), x_.begin() + n, [](double x) { return std::isfinite(x); }))
+    return false;
+  n_ = n;
   for (int k = 0; k < n; ++k) {
-    const double l = x_[k];
+    const double l = x_[static_cast<std::size_t>(k)];
     p.lambda[static_cast<std::size_t>(k)] = l;
     const auto blocks = blocksOf(p.rows[static_cast<std::size_t>(k)]);
     for (std::size_t s = 0; s < blocks.size(); ++s) {
@@ -73,8 +71,7 @@ bool DenseEqualities::solve(Problem& p, double min_pivot) {
 }
 
 void DenseEqualities::backSolve(std::span<double> x) const {
-  Eigen::Map<Eigen::VectorXd> v(x.data(), static_cast<Eigen::Index>(x.size()));
-  llt_.solveInPlace(v);
+  if (static_cast<int>(x.size()) == n_) solveLdlt(a_.data(), n_, x.data());
 }
 
 }  // namespace linx::solver

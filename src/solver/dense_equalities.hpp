@@ -2,14 +2,11 @@
 // island of a few bodies (a pendulum, a top, a short chain or a small loop). At that size the
 // exact solver's machinery (its active set, the tree analysis, the block factorization of bodies
 // and rows together, refinement against the unshifted matrix) costs more than the solve: here
-// A = J M^-1 J^T + diag(cfm) is formed entry by entry and factored by Cholesky (Eigen's LLT),
-// all in fixed-capacity storage.
+// A = J M^-1 J^T + diag(cfm) is formed entry by entry and factored by L D L^T
+// (solver/dense_ldlt.hpp), in fixed-capacity storage.
 #pragma once
 
 #include "solver/problem.hpp"
-
-#include <Eigen/Cholesky>
-#include <Eigen/Dense>
 
 #include <array>
 #include <cstddef>
@@ -33,14 +30,10 @@ class DenseEqualities {
   void backSolve(std::span<double> x) const;
 
  private:
-  using Matrix =
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxRows, kMaxRows>;
-  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxRows, 1>;
-
   std::array<std::array<Vec6, 4>, kMaxRows> w_;  // M^-1 J^T of each row's blocks a, b, c, d
-  Matrix a_;
-  Eigen::LLT<Matrix> llt_;
-  Vector x_;
+  std::array<double, kMaxRows * kMaxRows> a_{};  // A, then its factors (column-major, n x n)
+  std::array<double, kMaxRows> x_{};
+  int n_ = 0;  // the rows of the last successful solve
 };
 
 }  // namespace linx::solver

@@ -1,9 +1,34 @@
 // Solving with a dense LDL^T kept in one column-major n x n array: L (unit, below the diagonal)
 // and D (on it). Shared by the exact solver's small loops and the tree factorization's blocks,
-// which each factor in their own way (their shifts differ) and solve alike.
+// which each factor in their own way (their shifts differ) and solve alike, and by the small
+// systems of equalities (solver/dense_equalities), factored as they are.
 #pragma once
 
+#include <algorithm>
+
 namespace linx::solver {
+
+/// L D L^T of the symmetric n x n column-major matrix a in place, without pivoting (its lower
+/// triangle read; L, unit, written below the diagonal and D on it). Returns the smallest pivot
+/// relative to its diagonal entry in a: at most 0 when a is not positive definite, tiny when rows
+/// are (nearly) redundant.
+inline double factorLdlt(double* a, int n) {
+  double smallest = 1.0;
+  for (int j = 0; j < n; ++j) {
+    double d = a[j + j * n];
+    const double diagonal = d;
+    for (int k = 0; k < j; ++k) d -= a[j + k * n] * a[j + k * n] * a[k + k * n];
+    smallest = std::min(smallest, d / diagonal);
+    if (!(d > 0.0)) return std::min(smallest, 0.0);
+    a[j + j * n] = d;
+    for (int i = j + 1; i < n; ++i) {
+      double v = a[i + j * n];
+      for (int k = 0; k < j; ++k) v -= a[i + k * n] * a[j + k * n] * a[k + k * n];
+      a[i + j * n] = v / d;
+    }
+  }
+  return smallest;
+}
 
 /// x = (L D L^T)^-1 x for the factors in a (n x n, column-major).
 inline void solveLdlt(const double* a, int n, double* x) {
