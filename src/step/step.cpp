@@ -340,10 +340,14 @@ void stabilize(const Scene& scene, State& state, double time) {
   if (iterations > 0 && !scene.joints.empty()) {
     std::vector<std::uint8_t>& frozen = state.may_sleep;  // scratch until the sleep stage
     frozen.resize(scene.bodies.size());
-    for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    bool any = false;  // a body to move (with all frozen, gathering the rows is all it would do)
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
       frozen[i] = !awake(state, i) || accurate(state, i);
-    state.stabilization.run(scene.joints, scene.bodies, settings, iterations, frozen,
-                            state.geometric_stiffness, time);
+      any = any || (!frozen[i] && scene.bodies[i].isDynamic());
+    }
+    if (any)
+      state.stabilization.run(scene.joints, scene.bodies, settings, iterations, frozen,
+                              state.geometric_stiffness, time);
   }
   state.stabilization.endStep(scene.bodies);
 }
