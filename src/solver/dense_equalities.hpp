@@ -16,8 +16,10 @@ namespace linx::solver {
 
 class DenseEqualities {
  public:
-  /// The most rows solved here: beyond it the tree and sparse factorizations are cheaper.
-  static constexpr int kMaxRows = 24;
+  /// The most rows solved here: beyond it the tree and sparse factorizations are cheaper
+  /// (measured on chains of hinges with the accurate integrator: 25 rows dense 0.17 s, by the
+  /// tree 0.23 s; 45 rows 0.67 s against 0.58 s).
+  static constexpr int kMaxRows = 32;
 
   /// Solves A lambda = xi - J u* for rows that are all equalities (their bounds are not looked
   /// at), A = J M^-1 J^T + diag(cfm); the bodies then hold u* + M^-1 J^T lambda, and lambda the
