@@ -610,7 +610,9 @@ std::vector<Variant> mujocoVariants(const Scene& scene) {
 
 // The integrator table: Euler, implicit and RK4, each at h and at smaller steps (substeps), the
 // default solver. MuJoCo's own tolerance (Newton's) leaves a mechanism's loop-closing connects
-// soft: that error is MuJoCo's at every step size.
+// soft: that error is MuJoCo's at every step size. RK4 is swept by factors of two up to h / 16,
+// so that the fastest row as accurate as linx's costs at most about twice what RK4 would at
+// exactly linx's error.
 std::vector<Variant> mujocoIntegrators(const Scene& /*scene*/) {
   std::vector<Variant> out;
   const auto row = [&](int integrator, int substeps) {
@@ -622,7 +624,7 @@ std::vector<Variant> mujocoIntegrators(const Scene& /*scene*/) {
   row(mjINT_EULER, 16);
   row(mjINT_IMPLICIT, 1);
   row(mjINT_IMPLICIT, 16);
-  for (int substeps : {1, 4, 16, 64}) row(mjINT_RK4, substeps);
+  for (int substeps : {1, 2, 4, 8, 16, 64}) row(mjINT_RK4, substeps);
   return out;
 }
 
