@@ -63,11 +63,7 @@ int DenseFreeRows::solve(const Problem& p, std::span<const std::uint8_t> free,
         p.rows[static_cast<std::size_t>(free_index_[static_cast<std::size_t>(j)])].cfm;
     if (d <= 1e-8 * (ff_(j, j) - cfm) + 10.0 * (cfm + shift)) ++redundant;
     f(j, j) = d;
-    for (int i = j + 1; i < nf; ++i) {
-      double v = f(i, j);
-      for (int k = 0; k < j; ++k) v -= f(i, k) * f(j, k) * f(k, k);
-      f(i, j) = v / d;
-    }
+    eliminateBelow(f.data(), nf, j);
   }
   const auto correct = [&](Eigen::VectorXd& r) { solveLdlt(f.data(), nf, r.data()); };
   const auto residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {

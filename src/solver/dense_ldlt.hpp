@@ -8,6 +8,17 @@
 
 namespace linx::solver {
 
+/// Column j of an L D L^T factorization in place, its pivot D(j) already on the diagonal:
+/// L(i, j) for every i > j, from the columns before it. Every factorization here shares it.
+inline void eliminateBelow(double* a, int n, int j) {
+  const double d = a[j + j * n];
+  for (int i = j + 1; i < n; ++i) {
+    double v = a[i + j * n];
+    for (int k = 0; k < j; ++k) v -= a[i + k * n] * a[j + k * n] * a[k + k * n];
+    a[i + j * n] = v / d;
+  }
+}
+
 /// L D L^T of the symmetric n x n column-major matrix a in place, without pivoting (its lower
 /// triangle read; L, unit, written below the diagonal and D on it). Returns the smallest pivot
 /// relative to its diagonal entry in a: at most 0 when a is not positive definite, tiny when rows
@@ -21,11 +32,7 @@ inline double factorLdlt(double* a, int n) {
     smallest = std::min(smallest, d / diagonal);
     if (!(d > 0.0)) return std::min(smallest, 0.0);
     a[j + j * n] = d;
-    for (int i = j + 1; i < n; ++i) {
-      double v = a[i + j * n];
-      for (int k = 0; k < j; ++k) v -= a[i + k * n] * a[j + k * n] * a[k + k * n];
-      a[i + j * n] = v / d;
-    }
+    eliminateBelow(a, n, j);
   }
   return smallest;
 }

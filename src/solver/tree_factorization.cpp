@@ -66,11 +66,7 @@ int factorDense(double* a, int n_any, const double* cfm) {
       d += shift;
     }
     a[j + j * n] = d;
-    for (int i = j + 1; i < n; ++i) {
-      double v = a[i + j * n];
-      for (int k = 0; k < j; ++k) v -= a[i + k * n] * a[j + k * n] * a[k + k * n];
-      a[i + j * n] = v / d;
-    }
+    eliminateBelow(a, n, j);
   }
   return redundant;
 }
