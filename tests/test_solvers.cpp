@@ -148,7 +148,7 @@ TEST(Solvers, DenseEqualitiesMatchTheExactSolver) {
     solver::Problem dp{rows, dense_bodies, dense, 1.0};
     solver::Problem ep{rows, exact_bodies, exact, 1.0};
     solver::DenseEqualities d;
-    ASSERT_TRUE(d.solve(dp)) << "trial " << trial;
+    ASSERT_TRUE(d.solve(dp, false)) << "trial " << trial;
     solver::ExactSolver().solve(ep, SolverSettings{});
     for (int k = 0; k < n; ++k) {
       const auto i = static_cast<std::size_t>(k);
@@ -162,7 +162,7 @@ TEST(Solvers, DenseEqualitiesMatchTheExactSolver) {
 }
 
 TEST(Solvers, DenseEqualitiesLeaveRedundantRowsWithoutCfmToTheExactSolver) {
-  // The same row three times: A is rank one. Asked for pivots of at least 1e-8 of the diagonal,
+  // The same row three times: A is rank one. Asked to refuse redundant rows (as the projection),
   // the dense solve refuses it and leaves the body alone; with cfm the rows share the impulse
   // that stops the body (to cfm's give).
   std::vector<Row> rows(3);
@@ -177,10 +177,10 @@ TEST(Solvers, DenseEqualitiesLeaveRedundantRowsWithoutCfmToTheExactSolver) {
   std::vector<double> lambda(3, 0.0);
   solver::Problem p{rows, bodies, lambda, 1.0};
   solver::DenseEqualities d;
-  EXPECT_FALSE(d.solve(p, 1e-8));
+  EXPECT_FALSE(d.solve(p, false));
   EXPECT_EQ(bodies[0].v.z(), -1.0);
   for (Row& r : rows) r.cfm = 1e-9;
-  ASSERT_TRUE(d.solve(p));
+  ASSERT_TRUE(d.solve(p, true));
   EXPECT_NEAR(lambda[0] + lambda[1] + lambda[2], 2.0, 1e-7);
   EXPECT_NEAR(lambda[0], lambda[2], 1e-6);  // equal shares, to round-off times A's 2e9 condition
   EXPECT_NEAR(bodies[0].v.z(), 0.0, 1e-8);

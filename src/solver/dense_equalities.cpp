@@ -17,7 +17,7 @@ std::array<std::pair<int, const Vec6*>, 4> blocksOf(const Row& r) {
 
 }  // namespace
 
-bool DenseEqualities::solve(Problem& p, double min_pivot) {
+bool DenseEqualities::solve(Problem& p, bool redundant_rows) {
   const auto n = static_cast<int>(p.rows.size());
   if (n == 0 || n > kMaxRows) return false;
   // W = M^-1 J^T, block by block.
@@ -44,13 +44,32 @@ bool DenseEqualities::solve(Problem& p, double min_pivot) {
         for (std::size_t s = 0; s < bl.size(); ++s)
           if (bl[s].first == body) v += j->dot(w_[static_cast<std::size_t>(l)][s]);
       }
-      a_[static_cast<std::size_t>(l + k * n)] = v;  // the lower triangle
+      a_[static_cast<std::size_t>(l + k * n)] = a_[static_cast<std::size_t>(k + l * n)] = v;
     }
-    x_[static_cast<std::size_t>(k)] = rk.target(p.h) - RowSystem::rate(rk, p.bodies);
+    rhs_[static_cast<std::size_t>(k)] = rk.target(p.h) - RowSystem::rate(rk, p.bodies);
   }
+  // L D L^T of A with every pivot shifted by 1e-13 of A's largest diagonal entry, as the exact
+  // solver's back-ends factor (solver/free_rows.hpp): the rows' regularization, cfm, is relative
+  // to each row, and on a loop whose rows differ by orders of magnitude (a hinge's turning rows on
+  // a body light about its axis) the shift damps the near-null directions more evenly; the
+  // refinement below is against A unshifted.
   n_ = 0;
-  if (!(factorLdlt(a_.data(), n) > min_pivot)) return false;
-  solveLdlt(a_.data(), n, x_.data());
+  const auto entries = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  for (std::size_t e = 0; e < entries; ++e) factor_[e] = a_[e];
+  double largest = 0.0;
+  for (int k = 0; k < n; ++k) largest = std::max(largest, a_[static_cast<std::size_t>(k + k * n)]);
+  const double shift = 1e-13 * std::max(largest, 1e-300);
+  for (int k = 0; k < n; ++k) factor_[static_cast<std::size_t>(k + k * n)] += shift;
+  if (!factorLdlt(factor_.data(), n)) return false;
+  // A pivot that is nothing but regularization (as the exact solver counts them): a redundant row.
+  for (int k = 0; k < n && !redundant_rows; ++k) {
+    const auto kk = static_cast<std::size_t>(k + k * n);
+    const double cfm = p.rows[static_cast<std::size_t>(k)].cfm;
+    if (factor_[kk] <= 1e-8 * (a_[kk] - cfm) + 10.0 * (cfm + shift)) return false;
+  }
+  for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) x_[k] = rhs_[k];
+  solveLdlt(factor_.data(), n, x_.data());
+  refine(n);
   if (!std::all_of(x_.begin(), x_.begin() + n, [](double x) { return std::isfinite(x); }))
     return false;
   n_ = n;
@@ -70,8 +89,41 @@ bool DenseEqualities::solve(Problem& p, double min_pivot) {
   return true;
 }
 
+double DenseEqualities::residual(int n, const double* x, double* r) const {
+  double largest = 0.0;
+  for (int k = 0; k < n; ++k) {
+    double v = rhs_[static_cast<std::size_t>(k)];
+    for (int l = 0; l < n; ++l) v -= a_[static_cast<std::size_t>(k + l * n)] * x[l];
+    r[k] = v;
+    largest = std::max(largest, std::abs(v));
+  }
+  return largest;
+}
+
+void DenseEqualities::refine(int n) {
+  // With rows nearly dependent (a loop's redundant rows, held apart only by cfm) the factors'
+  // round-off, amplified by A's condition, errs along the near-null directions; each step
+  // r = rhs - A x, x += A^-1 r takes most of it back. At most three, and only while the residual
+  // at least halves (as the exact solver's back-ends refine).
+  std::array<double, kMaxRows> r{}, candidate{};
+  double res = residual(n, x_.data(), r.data());
+  const double scale =
+      std::abs(*std::max_element(rhs_.begin(), rhs_.begin() + n,
+                                 [](double a, double b) { return std::abs(a) < std::abs(b); }));
+  for (int it = 0; it < 3 && res > 1e-15 * (1.0 + scale); ++it) {
+    solveLdlt(factor_.data(), n, r.data());
+    for (int k = 0; k < n; ++k)
+      candidate[static_cast<std::size_t>(k)] =
+          x_[static_cast<std::size_t>(k)] + r[static_cast<std::size_t>(k)];
+    const double next = residual(n, candidate.data(), r.data());
+    if (!(next < 0.5 * res)) break;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) x_[k] = candidate[k];
+    res = next;
+  }
+}
+
 void DenseEqualities::backSolve(std::span<double> x) const {
-  if (static_cast<int>(x.size()) == n_) solveLdlt(a_.data(), n_, x.data());
+  if (static_cast<int>(x.size()) == n_) solveLdlt(factor_.data(), n_, x.data());
 }
 
 }  // namespace linx::solver

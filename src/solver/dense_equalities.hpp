@@ -22,19 +22,25 @@ class DenseEqualities {
   static constexpr int kMaxRows = 32;
 
   /// Solves A lambda = xi - J u* for rows that are all equalities (their bounds are not looked
-  /// at), A = J M^-1 J^T + diag(cfm); the bodies then hold u* + M^-1 J^T lambda, and lambda the
-  /// impulses. Returns false, having changed nothing, when there are more than kMaxRows rows, A
-  /// is not positive definite, or one of its pivots is below `min_pivot` of its diagonal entry
-  /// (with no cfm: redundant rows, whose impulses only a regularized solve keeps finite): the
-  /// caller solves otherwise.
-  bool solve(Problem& p, double min_pivot = 0.0);
+  /// at), A = J M^-1 J^T + diag(cfm), as the exact solver would; the bodies then hold
+  /// u* + M^-1 J^T lambda, and lambda the impulses. Returns false, having changed nothing, when
+  /// there are more than kMaxRows rows, A is not positive definite, or, unless `redundant_rows`,
+  /// rows are redundant (a pivot that is nothing but cfm and the shift, as the exact solver counts
+  /// them: without cfm only its regularized solve keeps their impulses finite): the caller solves
+  /// otherwise.
+  bool solve(Problem& p, bool redundant_rows);
   /// x (one entry per row) <- A^-1 x with the last successful solve's factorization.
   void backSolve(std::span<double> x) const;
 
  private:
   std::array<std::array<Vec6, 4>, kMaxRows> w_;  // M^-1 J^T of each row's blocks a, b, c, d
-  std::array<double, kMaxRows * kMaxRows> a_{};  // A, then its factors (column-major, n x n)
-  std::array<double, kMaxRows> x_{};
+  /// r = rhs - A x; returns its largest entry.
+  double residual(int n, const double* x, double* r) const;
+  /// Iterative refinement of x_ against A.
+  void refine(int n);
+
+  std::array<double, kMaxRows * kMaxRows> a_{}, factor_{};  // A; its L D L^T (column-major, n x n)
+  std::array<double, kMaxRows> rhs_{}, x_{};
   int n_ = 0;  // the rows of the last successful solve
 };
 

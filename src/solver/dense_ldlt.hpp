@@ -4,8 +4,6 @@
 // systems of equalities (solver/dense_equalities), factored as they are.
 #pragma once
 
-#include <algorithm>
-
 namespace linx::solver {
 
 /// Column j of an L D L^T factorization in place, its pivot D(j) already on the diagonal:
@@ -20,21 +18,17 @@ inline void eliminateBelow(double* a, int n, int j) {
 }
 
 /// L D L^T of the symmetric n x n column-major matrix a in place, without pivoting (its lower
-/// triangle read; L, unit, written below the diagonal and D on it). Returns the smallest pivot
-/// relative to its diagonal entry in a: at most 0 when a is not positive definite, tiny when rows
-/// are (nearly) redundant.
-inline double factorLdlt(double* a, int n) {
-  double smallest = 1.0;
+/// triangle read; L, unit, written below the diagonal and D on it). Returns false, at the first
+/// pivot that is not positive, when a is not positive definite.
+inline bool factorLdlt(double* a, int n) {
   for (int j = 0; j < n; ++j) {
     double d = a[j + j * n];
-    const double diagonal = d;
     for (int k = 0; k < j; ++k) d -= a[j + k * n] * a[j + k * n] * a[k + k * n];
-    smallest = std::min(smallest, d / diagonal);
-    if (!(d > 0.0)) return std::min(smallest, 0.0);
+    if (!(d > 0.0)) return false;
     a[j + j * n] = d;
     eliminateBelow(a, n, j);
   }
-  return smallest;
+  return true;
 }
 
 /// x = (L D L^T)^-1 x for the factors in a (n x n, column-major).

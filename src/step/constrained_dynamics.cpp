@@ -355,7 +355,7 @@ void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> 
                           std::span<double>(lambda_).first(equalities), 1.0, threads};
   if (equalities > 0) {
     // A few bodies' rows dense; else (or when the dense factorization fails) the exact solver.
-    dense_ = dense_solver_.solve(problem);
+    dense_ = dense_solver_.solve(problem, true);
     if (!dense_) solver_.solve(problem, exact);
     refine(equalities);
   }

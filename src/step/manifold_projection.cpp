@@ -17,9 +17,9 @@ void ManifoldProjection::solve(const SolverSettings& settings, int threads) {
   SolverSettings exact = settings;
   exact.type = SolverType::Exact;
   solver::Problem problem{rows_, solver_bodies_, lambda_, 1.0, threads};
-  // A few bodies' rows dense, unless they are redundant (as the exact solver counts them: a pivot
-  // below 1e-8 of its diagonal); else the exact solver, which keeps redundant rows finite.
-  if (!dense_.solve(problem, 1e-8)) solver_.solve(problem, exact);
+  // A few bodies' rows dense, unless they are redundant; else the exact solver, which keeps
+  // redundant rows finite.
+  if (!dense_.solve(problem, false)) solver_.solve(problem, exact);
 }
 
 double ManifoldProjection::project(std::span<const std::unique_ptr<Joint>> joints,
