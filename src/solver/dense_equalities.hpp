@@ -1,9 +1,10 @@
 // Small systems of equality rows, solved dense: the accurate integrator's acceleration solve on an
-// island of a few bodies (a pendulum, a top, a short chain or a small loop). At that size the
-// exact solver's machinery (its active set, the tree analysis, the block factorization of bodies
-// and rows together, refinement against the unshifted matrix) costs more than the solve: here
+// island of a few bodies (a pendulum, a top, a short chain or a small loop), and its projections.
+// At that size the exact solver's machinery (the row system it builds, its active set, the tree
+// analysis, the block factorization of bodies and rows together) costs more than the solve: here
 // A = J M^-1 J^T + diag(cfm) is formed entry by entry and factored by L D L^T
-// (solver/dense_ldlt.hpp), in fixed-capacity storage.
+// (solver/dense_ldlt.hpp) in fixed-capacity storage, with the exact solver's pivot shift and
+// refinement, so that the two give the same impulses to round-off.
 #pragma once
 
 #include "solver/problem.hpp"
@@ -33,12 +34,12 @@ class DenseEqualities {
   void backSolve(std::span<double> x) const;
 
  private:
-  std::array<std::array<Vec6, 4>, kMaxRows> w_;  // M^-1 J^T of each row's blocks a, b, c, d
   /// r = rhs - A x; returns its largest entry.
   double residual(int n, const double* x, double* r) const;
   /// Iterative refinement of x_ against A.
   void refine(int n);
 
+  std::array<std::array<Vec6, 4>, kMaxRows> w_;  // M^-1 J^T of each row's blocks a, b, c, d
   std::array<double, kMaxRows * kMaxRows> a_{}, factor_{};  // A; its L D L^T (column-major, n x n)
   std::array<double, kMaxRows> rhs_{}, x_{};
   int n_ = 0;  // the rows of the last successful solve
