@@ -1,6 +1,7 @@
 #include "solver/dense_equalities.hpp"
 
 #include "solver/dense_ldlt.hpp"
+#include "solver/free_rows.hpp"
 #include "solver/row_system.hpp"
 
 #include <algorithm>
@@ -33,6 +34,7 @@ bool DenseEqualities::solve(Problem& p, bool redundant_rows) {
     }
   }
   // A_kl = sum over the bodies rows k and l share of J_k W_l; the right-hand side xi - J u*.
+  rhs_.resize(n);
   for (int k = 0; k < n; ++k) {
     const Row& rk = p.rows[static_cast<std::size_t>(k)];
     const auto bk = blocksOf(rk);
@@ -46,7 +48,7 @@ bool DenseEqualities::solve(Problem& p, bool redundant_rows) {
       }
       a_[static_cast<std::size_t>(l + k * n)] = a_[static_cast<std::size_t>(k + l * n)] = v;
     }
-    rhs_[static_cast<std::size_t>(k)] = rk.target(p.h) - RowSystem::rate(rk, p.bodies);
+    rhs_[k] = rk.target(p.h) - RowSystem::rate(rk, p.bodies);
   }
   // L D L^T of A with every pivot shifted by 1e-13 of A's largest diagonal entry, as the exact
   // solver's back-ends factor (solver/free_rows.hpp): the rows' regularization, cfm, is relative
@@ -65,16 +67,27 @@ bool DenseEqualities::solve(Problem& p, bool redundant_rows) {
   for (int k = 0; k < n && !redundant_rows; ++k) {
     const auto kk = static_cast<std::size_t>(k + k * n);
     const double cfm = p.rows[static_cast<std::size_t>(k)].cfm;
-    if (factor_[kk] <= 1e-8 * (a_[kk] - cfm) + 10.0 * (cfm + shift)) return false;
+    if (isRedundantPivot(factor_[kk], a_[kk], cfm, shift)) return false;
   }
-  for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) x_[k] = rhs_[k];
-  solveLdlt(factor_.data(), n, x_.data());
-  refine(n);
-  if (!std::all_of(x_.begin(), x_.begin() + n, [](double x) { return std::isfinite(x); }))
-    return false;
+  // The solve, refined against A as the exact solver's back-ends refine (solver/free_rows.hpp).
+  const auto correct = [&](Vector& r) { solveLdlt(factor_.data(), n, r.data()); };
+  const auto residual = [&](const Vector& x, Vector& r) {
+    for (int k = 0; k < n; ++k) {
+      double v = rhs_[k];
+      for (int l = 0; l < n; ++l) v -= a_[static_cast<std::size_t>(k + l * n)] * x[l];
+      r[k] = v;
+    }
+    return r.lpNorm<Eigen::Infinity>();
+  };
+  x_ = rhs_;
+  correct(x_);
+  r_.resize(n);
+  const double res = residual(x_, r_);
+  refine(x_, r_, res, rhs_.lpNorm<Eigen::Infinity>(), residual, correct);
+  if (!x_.allFinite()) return false;
   n_ = n;
   for (int k = 0; k < n; ++k) {
-    const double l = x_[static_cast<std::size_t>(k)];
+    const double l = x_[k];
     p.lambda[static_cast<std::size_t>(k)] = l;
     const auto blocks = blocksOf(p.rows[static_cast<std::size_t>(k)]);
     for (std::size_t s = 0; s < blocks.size(); ++s) {
@@ -87,39 +100,6 @@ bool DenseEqualities::solve(Problem& p, bool redundant_rows) {
     }
   }
   return true;
-}
-
-double DenseEqualities::residual(int n, const double* x, double* r) const {
-  double largest = 0.0;
-  for (int k = 0; k < n; ++k) {
-    double v = rhs_[static_cast<std::size_t>(k)];
-    for (int l = 0; l < n; ++l) v -= a_[static_cast<std::size_t>(k + l * n)] * x[l];
-    r[k] = v;
-    largest = std::max(largest, std::abs(v));
-  }
-  return largest;
-}
-
-void DenseEqualities::refine(int n) {
-  // With rows nearly dependent (a loop's redundant rows, held apart only by cfm) the factors'
-  // round-off, amplified by A's condition, errs along the near-null directions; each step
-  // r = rhs - A x, x += A^-1 r takes most of it back. At most three, and only while the residual
-  // at least halves (as the exact solver's back-ends refine).
-  std::array<double, kMaxRows> r{}, candidate{};
-  double res = residual(n, x_.data(), r.data());
-  const double scale =
-      std::abs(*std::max_element(rhs_.begin(), rhs_.begin() + n,
-                                 [](double a, double b) { return std::abs(a) < std::abs(b); }));
-  for (int it = 0; it < 3 && res > 1e-15 * (1.0 + scale); ++it) {
-    solveLdlt(factor_.data(), n, r.data());
-    for (int k = 0; k < n; ++k)
-      candidate[static_cast<std::size_t>(k)] =
-          x_[static_cast<std::size_t>(k)] + r[static_cast<std::size_t>(k)];
-    const double next = residual(n, candidate.data(), r.data());
-    if (!(next < 0.5 * res)) break;
-    for (std::size_t k = 0; k < static_cast<std::size_t>(n); ++k) x_[k] = candidate[k];
-    res = next;
-  }
 }
 
 void DenseEqualities::backSolve(std::span<double> x) const {

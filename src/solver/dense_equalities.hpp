@@ -9,6 +9,8 @@
 
 #include "solver/problem.hpp"
 
+#include <Eigen/Dense>
+
 #include <array>
 #include <cstddef>
 #include <span>
@@ -34,14 +36,11 @@ class DenseEqualities {
   void backSolve(std::span<double> x) const;
 
  private:
-  /// r = rhs - A x; returns its largest entry.
-  double residual(int n, const double* x, double* r) const;
-  /// Iterative refinement of x_ against A.
-  void refine(int n);
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxRows, 1>;
 
   std::array<std::array<Vec6, 4>, kMaxRows> w_;  // M^-1 J^T of each row's blocks a, b, c, d
   std::array<double, kMaxRows * kMaxRows> a_{}, factor_{};  // A; its L D L^T (column-major, n x n)
-  std::array<double, kMaxRows> rhs_{}, x_{};
+  Vector rhs_, x_, r_;
   int n_ = 0;  // the rows of the last successful solve
 };
 

@@ -61,7 +61,7 @@ int DenseFreeRows::solve(const Problem& p, std::span<const std::uint8_t> free,
     for (int k = 0; k < j; ++k) d -= f(j, k) * f(j, k) * f(k, k);
     const double cfm =
         p.rows[static_cast<std::size_t>(free_index_[static_cast<std::size_t>(j)])].cfm;
-    if (d <= 1e-8 * (ff_(j, j) - cfm) + 10.0 * (cfm + shift)) ++redundant;
+    if (isRedundantPivot(d, ff_(j, j), cfm, shift)) ++redundant;
     f(j, j) = d;
     eliminateBelow(f.data(), nf, j);
   }

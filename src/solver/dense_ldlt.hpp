@@ -1,10 +1,18 @@
 // Solving with a dense LDL^T kept in one column-major n x n array: L (unit, below the diagonal)
-// and D (on it). Shared by the exact solver's small loops and the tree factorization's blocks,
-// which each factor in their own way (their shifts differ) and solve alike, and by the small
-// systems of equalities (solver/dense_equalities), factored as they are.
+// and D (on it), and which of its pivots are redundant rows. Shared by the exact solver's small
+// loops and the tree factorization's blocks, which each factor in their own way (their shifts
+// differ) and solve alike, and by the small systems of equalities (solver/dense_equalities),
+// factored as they are.
 #pragma once
 
 namespace linx::solver {
+
+/// Whether a pivot d of an L D L^T whose row has `diagonal` (J M^-1 J^T + cfm) is nothing but
+/// regularization, the row's cfm and the factorization's shift: a redundant row (every exact
+/// back-end and the small dense solves count them alike).
+inline bool isRedundantPivot(double d, double diagonal, double cfm, double shift) {
+  return d <= 1e-8 * (diagonal - cfm) + 10.0 * (cfm + shift);
+}
 
 /// Column j of an L D L^T factorization in place, its pivot D(j) already on the diagonal:
 /// L(i, j) for every i > j, from the columns before it. Every factorization here shares it.

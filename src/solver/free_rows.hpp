@@ -49,11 +49,12 @@ class FreeRows {
 /// and returns its largest entry, `res` for the x given), x += F^-1 r (`correct(r)` applies the
 /// shifted factorization in place), at most three times and only while the residual at least
 /// halves: with inconsistent redundant rows (cfm = 0) further steps would only grow the impulses
-/// along the null space. `scale`: the largest entry of rhs.
-template <class Residual, class Correct>
-void refine(Eigen::VectorXd& x, Eigen::VectorXd& r, double res, double scale, Residual&& residual,
+/// along the null space. `scale`: the largest entry of rhs. Vector: an Eigen vector (of fixed
+/// capacity for small systems: no allocation).
+template <class Vector, class Residual, class Correct>
+void refine(Vector& x, Vector& r, double res, double scale, Residual&& residual,
             Correct&& correct) {
-  Eigen::VectorXd candidate;
+  Vector candidate;
   for (int k = 0; k < 3 && res > 1e-15 * (1.0 + scale); ++k) {
     correct(r);
     candidate = r + x;

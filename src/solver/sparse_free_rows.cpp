@@ -1,4 +1,5 @@
 // The exact solver's free rows of a large loop, sparse (solver/free_rows.hpp).
+#include "solver/dense_ldlt.hpp"
 #include "solver/free_rows.hpp"
 
 #include <algorithm>
@@ -204,7 +205,7 @@ int SparseFreeRows::solve(const Problem& p, std::span<const std::uint8_t> free,
     if (j < 0) continue;
     const double cfm = p.rows[std::size_t(k)].cfm;
     const double diagonal = all_free_ ? a_.valuePtr()[diagonal_[std::size_t(k)]] : aff.coeff(j, j);
-    if (d[perm[j]] <= 1e-8 * (diagonal - cfm) + 10.0 * (cfm + shift)) ++redundant;
+    if (isRedundantPivot(d[perm[j]], diagonal, cfm, shift)) ++redundant;
   }
   return redundant;
 }

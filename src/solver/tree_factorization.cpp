@@ -62,7 +62,7 @@ int factorDense(double* a, int n_any, const double* cfm) {
     if (j >= first_row) {
       const double c = cfm[j - first_row];
       const double shift = 1e-13 * std::max(reference, 1e-300);
-      if (d <= 1e-8 * (reference - c) + 10.0 * (c + shift)) ++redundant;
+      if (isRedundantPivot(d, reference, c, shift)) ++redundant;
       d += shift;
     }
     a[j + j * n] = d;
