@@ -597,13 +597,14 @@ TEST(SceneError, Faults) {
 TEST(SceneError, Integrator) {
   expectErrors({
       {[](json& s) { s["integrator"] = "rk4"; }, "integrator",
-       "unknown integrator 'rk4' (expected \"step\" or \"accurate\")"},
+       "unknown integrator 'rk4' (expected \"auto\", \"step\" or \"accurate\")"},
       {[](json& s) { s["integrator"] = 1; }, "integrator",
-       "expected \"step\", \"accurate\" or an object, got a number"},
+       "expected \"auto\", \"step\", \"accurate\" or an object, got a number"},
       {[](json& s) {
          s["integrator"] = {{"type", "Accurate"}};
        },
-       "integrator.type", "unknown integrator 'Accurate' (expected \"step\" or \"accurate\")"},
+       "integrator.type",
+       "unknown integrator 'Accurate' (expected \"auto\", \"step\" or \"accurate\")"},
       {[](json& s) {
          s["integrator"] = {{"tolerence", 1e-9}};
        },

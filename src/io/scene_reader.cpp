@@ -437,7 +437,7 @@ class Reader {
 
   // --- Sections --------------------------------------------------------------------------------
 
-  // "integrator": "step" | "accurate", or {"type": ..., "tolerance": ...}.
+  // "integrator": "auto" | "step" | "accurate", or {"type": ..., "tolerance": ...}.
   IntegratorSettings integrator(const Node& n) const {
     IntegratorSettings s;
     const auto type = [&](const Node& t) {
@@ -446,9 +446,12 @@ class Reader {
         s.type = IntegratorType::Step;
       } else if (name == "accurate") {
         s.type = IntegratorType::Accurate;
+      } else if (name == "auto") {
+        s.type = IntegratorType::Auto;
       } else {
         fail(t.path,
-             fmt::format("unknown integrator '{}' (expected \"step\" or \"accurate\")", name));
+             fmt::format("unknown integrator '{}' (expected \"auto\", \"step\" or \"accurate\")",
+                         name));
       }
     };
     if (n.value.is_string()) {
@@ -456,8 +459,8 @@ class Reader {
       return s;
     }
     if (!n.value.is_object())
-      fail(n.path,
-           fmt::format("expected \"step\", \"accurate\" or an object, got {}", describe(n.value)));
+      fail(n.path, fmt::format("expected \"auto\", \"step\", \"accurate\" or an object, got {}",
+                               describe(n.value)));
     allowOnly(n, {"type", "tolerance"});
     if (auto t = get(n, "type")) type(*t);
     if (auto v = get(n, "tolerance")) {

@@ -102,7 +102,7 @@ void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::
       throw std::domain_error("accurate integrator: the accelerations are not finite");
 }
 
-double AccurateIntegrator::errorNorm(double tolerance) const {
+double AccurateIntegrator::bodyError(std::size_t n, double tolerance) const {
   double worst = 0.0;
   const auto part = [&](auto&& e, auto&& a, auto&& b) {
     for (Eigen::Index c = 0; c < e.size(); ++c) {
@@ -110,13 +110,17 @@ double AccurateIntegrator::errorNorm(double tolerance) const {
       worst = std::max(worst, std::abs(e[c]) / scale);
     }
   };
-  for (std::size_t n = 0; n < ids_.size(); ++n) {
-    part(error_[n].x, y0_[n].x, y1_[n].x);
-    part(error_[n].q, y0_[n].q, y1_[n].q);
-    part(error_[n].v, y0_[n].v, y1_[n].v);
-    part(error_[n].w, y0_[n].w, y1_[n].w);
-  }
+  part(error_[n].x, y0_[n].x, y1_[n].x);
+  part(error_[n].q, y0_[n].q, y1_[n].q);
+  part(error_[n].v, y0_[n].v, y1_[n].v);
+  part(error_[n].w, y0_[n].w, y1_[n].w);
   return std::isfinite(worst) ? worst : kInfinity;
+}
+
+double AccurateIntegrator::errorNorm(double tolerance) const {
+  double worst = 0.0;
+  for (std::size_t n = 0; n < ids_.size(); ++n) worst = std::max(worst, bodyError(n, tolerance));
+  return worst;
 }
 
 void AccurateIntegrator::begin(std::span<const std::unique_ptr<Joint>> joints,
@@ -189,11 +193,19 @@ double AccurateIntegrator::attempt(double time, double dt) {
   return errorNorm(settings_->integrator.tolerance);
 }
 
-void AccurateIntegrator::addImpulses(double dt) {
+void AccurateIntegrator::addImpulses(double dt, std::span<const std::uint8_t> only) {
+  const auto flagged = [&](const Row& r) {
+    bool any = false;
+    r.forEachBlock([&](int body, const Vec6&) {
+      if (body >= 0 && only[static_cast<std::size_t>(body)]) any = true;
+    });
+    return any;
+  };
   for (int s = 0; s < dp::kStages; ++s) {
     const double w = dp::b[static_cast<std::size_t>(s)] * dt;
     if (w == 0.0) continue;
     for (const Row& r : stage_rows_[static_cast<std::size_t>(s)]) {
+      if (!only.empty() && !flagged(r)) continue;
       Impulse& i = impulses_[r.key];
       const double l = w * r.speed;
       i.lambda += l;
@@ -277,6 +289,43 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
   return report;
 }
 
+IntegratorReport AccurateIntegrator::tryOneStep(
+    std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+    const WorldSettings& settings, const Islands& islands, std::vector<std::uint8_t>& accurate,
+    double time, double h, int threads, std::span<Row> rows, std::span<double> lambda) {
+  begin(joints, bodies, settings, accurate, threads);
+  IntegratorReport report;
+  if (ids_.empty()) return report;
+  take();
+  rates(y0_, time, k_[0], stage_rows_[0]);
+  attempt(time, h);
+  // Each island on its own error: the islands do not act on each other.
+  island_error_.assign(static_cast<std::size_t>(islands.count()), 0.0);
+  for (std::size_t n = 0; n < ids_.size(); ++n) {
+    double& e = island_error_[static_cast<std::size_t>(islands.islandOf(ids_[n]))];
+    e = std::max(e, bodyError(n, settings.integrator.tolerance));
+  }
+  for (std::size_t n = 0; n < ids_.size(); ++n) {
+    if (island_error_[static_cast<std::size_t>(islands.islandOf(ids_[n]))] <= 1.0)
+      ++report.bodies;
+    else
+      accurate[static_cast<std::size_t>(ids_[n])] = 0;
+  }
+  for (const double e : island_error_)
+    if (!(e <= 1.0)) ++report.rejected;
+  if (report.bodies == 0) return report;
+  report.steps = 1;
+  // Only the kept islands' bodies take the step's result.
+  for (std::size_t n = 0; n < ids_.size(); ++n)
+    if (!accurate[static_cast<std::size_t>(ids_[n])]) y1_[n] = y0_[n];
+  put(y1_, bodies);
+  addImpulses(h, accurate);
+  report.error = projection_.project(joints, bodies, settings.solver, accurate, time + h, 10,
+                                     settings.solver.projection_tolerance, threads);
+  putImpulses(rows, lambda);
+  return report;
+}
+
 }  // namespace linx::step
 
 namespace linx {
@@ -287,6 +336,8 @@ std::string_view integratorTypeName(IntegratorType type) {
       return "step";
     case IntegratorType::Accurate:
       return "accurate";
+    case IntegratorType::Auto:
+      return "auto";
   }
   return "unknown";
 }

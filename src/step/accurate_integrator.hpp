@@ -55,6 +55,16 @@ class AccurateIntegrator {
                            double time, double h, int threads, std::span<Row> rows,
                            std::span<double> lambda);
 
+  /// Integrator "auto": one step of length h for each flagged island, from the bodies' state at
+  /// `time`. An island whose local error stays within the tolerance keeps it (projected, its
+  /// impulses into `rows` and `lambda` as with advance); the flags of the others are cleared in
+  /// `accurate`, their bodies left for the caller to put back. `islands`: those of the bodies.
+  IntegratorReport tryOneStep(std::span<const std::unique_ptr<Joint>> joints,
+                              std::span<Body> bodies, const WorldSettings& settings,
+                              const Islands& islands, std::vector<std::uint8_t>& accurate,
+                              double time, double h, int threads, std::span<Row> rows,
+                              std::span<double> lambda);
+
   /// Reads or writes what carries to the next frame (World::saveState): the step size the last
   /// frame's error proposed.
   void persist(state::Archive& archive);
@@ -81,11 +91,15 @@ class AccurateIntegrator {
   /// the fifth-order solution in y1, and the local error's norm against the tolerance.
   double attempt(double time, double dt);
   /// Adds an accepted step's share of the joints' impulses (and their weighted directions).
-  void addImpulses(double dt);
+  void addImpulses(double dt) { addImpulses(dt, {}); }
   /// The frame's impulses onto the rows (by key): lambda and each row's mean direction.
   void putImpulses(std::span<Row> rows, std::span<double> lambda) const;
-  /// The largest component of `error` over its scale tol max(1, |y0|, |y1|).
+  /// The largest component of `error` over its scale tol max(1, |y0|, |y1|): of all the moving
+  /// bodies, or of the n-th.
   double errorNorm(double tolerance) const;
+  double bodyError(std::size_t n, double tolerance) const;
+  /// Adds a step's impulses; with `only`, those of the rows on a body it flags.
+  void addImpulses(double dt, std::span<const std::uint8_t> only);
 
   std::span<const std::unique_ptr<Joint>> joints_;
   std::span<Body> bodies_;
@@ -107,6 +121,7 @@ class AccurateIntegrator {
   std::unordered_map<std::uint64_t, Impulse> impulses_;
   std::vector<Vec3> dv_, dw_;
   std::vector<std::uint8_t> island_ok_;
+  std::vector<double> island_error_;
   ConstrainedDynamics dynamics_;
   ManifoldProjection projection_;
 };

@@ -115,26 +115,55 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
 /// accurate: with integrator "accurate", the awake islands of joints alone (no contact, limit,
 /// motor or drive rows) move over the pass by the accurate integrator from their state at its
 /// start (the velocities before the velocities stage), and their joints' impulses become the
-/// rows'. Returns the awake islands left to the solve (empty: all).
+/// rows'. With "auto", those of them not waiting (step/integrator_choice) try one step of it and
+/// keep it where it holds the tolerance; the others are put back for the solve. Returns the awake
+/// islands left to the solve (empty: all).
 std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& state,
                                                   std::span<const std::uint8_t> island_awake,
                                                   double h) {
   state.accurate_report = IntegratorReport{};
   std::vector<std::uint8_t>& accurate = state.accurate_bodies;
-  if (scene.settings.integrator.type != IntegratorType::Accurate ||
+  const IntegratorType type = scene.settings.integrator.type;
+  const bool selected =
+      type != IntegratorType::Step &&
       state.accurate.select(scene.joints, scene.bodies, state.rows.rows, state.rows.joint_rows,
-                            state.islands, island_awake, scene.settings.solver, accurate) == 0) {
+                            state.islands, island_awake, scene.settings.solver, accurate) > 0 &&
+      (type != IntegratorType::Auto || state.choice.keepTrying(state.islands, accurate) > 0);
+  if (!selected) {
     accurate.assign(scene.bodies.size(), 0);
     return island_awake;
   }
+  std::vector<BodyState>& before = state.before_accurate;
+  before.clear();
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     if (!accurate[i]) continue;
-    scene.bodies[i].setLinearVelocity(state.start_velocities[i].v);
-    scene.bodies[i].setAngularVelocity(state.start_velocities[i].w);
+    Body& b = scene.bodies[i];
+    before.push_back(BodyState{b.pose(), b.linearVelocity(), b.angularVelocity()});
+    b.setLinearVelocity(state.start_velocities[i].v);
+    b.setAngularVelocity(state.start_velocities[i].w);
   }
-  state.accurate_report =
-      state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, scene.time, h,
-                             scene.threads, state.rows.rows, state.rows.lambda);
+  if (type == IntegratorType::Auto) {
+    std::vector<std::uint8_t>& tried = state.tried_accurate;
+    tried = accurate;
+    state.accurate_report = state.accurate.tryOneStep(
+        scene.joints, scene.bodies, scene.settings, state.islands, accurate, scene.time, h,
+        scene.threads, state.rows.rows, state.rows.lambda);
+    state.choice.record(tried, accurate);
+    // The islands that refused take the solve from where the velocities stage left them.
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+      if (!tried[i]) continue;
+      const BodyState& b = before[k++];
+      if (accurate[i]) continue;
+      scene.bodies[i].setPose(b.pose);
+      scene.bodies[i].setLinearVelocity(b.v);
+      scene.bodies[i].setAngularVelocity(b.w);
+    }
+  } else {
+    state.accurate_report =
+        state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, scene.time, h,
+                               scene.threads, state.rows.rows, state.rows.lambda);
+  }
   std::vector<std::uint8_t>& stepped = state.island_stepped;
   stepped.assign(static_cast<std::size_t>(state.islands.count()), 1);
   if (!island_awake.empty()) std::copy(island_awake.begin(), island_awake.end(), stepped.begin());

@@ -11,6 +11,7 @@
 //                                                    step/islands, step/sleep
 //   accurate    with integrator "accurate": islands of joints alone move over the pass by the
 //               accurate integrator; the stages below leave them     step/accurate_integrator
+//               ("auto": those whose one step of it holds the tolerance) step/integrator_choice
 //   solve       each awake island's boxed LCP: impulses lambda, u+ = u* + M^-1 J^T lambda
 //                                                    step/island_solver, solver/
 //   store       impulses kept for the next pass's warm start and the contacts() report
@@ -40,6 +41,7 @@
 #include "step/assembly.hpp"
 #include "step/contact_stage.hpp"
 #include "step/geometric_stiffness.hpp"
+#include "step/integrator_choice.hpp"
 #include "step/island_solver.hpp"
 #include "step/islands.hpp"
 #include "step/joint_loads.hpp"
@@ -75,6 +77,13 @@ struct Rows {
   std::size_t joint_rows = 0;  ///< rows [0, joint_rows) are the joints'
 };
 
+/// A body's pose and velocities, to put it back.
+struct BodyState {
+  Pose pose;
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
+};
+
 /// What the step keeps from one pass to the next (warm starts, contacts, sleep) and its buffers.
 struct State {
   Rows rows;
@@ -100,7 +109,10 @@ struct State {
   solver::SoftSolver soft;
   std::vector<solver::SoftSolver::Bounce> bounces;
   AccurateIntegrator accurate;
+  IntegratorChoice choice;                    ///< integrator "auto": which islands try `accurate`
   std::vector<std::uint8_t> accurate_bodies;  // moved by `accurate` this pass (one per body)
+  std::vector<std::uint8_t> tried_accurate;   // "auto": the bodies that tried it
+  std::vector<BodyState> before_accurate;     // their state before, in body order
   std::vector<std::uint8_t> island_stepped;   // awake islands the step solves
   IntegratorReport accurate_report;
   std::vector<int> neighbours;

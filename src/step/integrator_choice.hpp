@@ -1,0 +1,45 @@
+// Integrator "auto" (docs/integrators.md): which islands of joints alone try the accurate
+// integrator in a pass. An island that tries takes one Runge-Kutta step over the whole pass; where
+// that step holds the tolerance it costs about 1.5 times the step (A01 and the spatial
+// slider-crank, measured) and keeps it; where it does not, the island takes the step for that
+// pass and waits 8 passes before it tries again, then 16, 32 and so on up to 256 while it keeps
+// failing, so that an island the accurate integrator would need several steps a pass for costs
+// the step's price plus under 1 %. The waits are counted in passes, not seconds: a run repeats
+// exactly, and a saved state carries them.
+#pragma once
+
+#include "step/islands.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace linx::state {
+class Archive;
+}
+
+namespace linx::step {
+
+class IntegratorChoice {
+ public:
+  /// Clears in `accurate` (one flag per body) the bodies of islands still waiting, after counting
+  /// one more pass of every wait. Returns how many bodies stay flagged.
+  int keepTrying(const Islands& islands, std::vector<std::uint8_t>& accurate);
+
+  /// After the pass: `tried` flagged the bodies that tried, `kept` those whose island's step held
+  /// the tolerance. A body that tried and failed waits twice as long as last time (8 at first).
+  void record(std::span<const std::uint8_t> tried, std::span<const std::uint8_t> kept);
+
+  /// Reads or writes the waits (World::saveState).
+  void persist(state::Archive& archive);
+
+  static constexpr int kFirstWait = 8;  ///< passes after a first failure
+  static constexpr int kLongestWait = 256;
+
+ private:
+  std::vector<std::int32_t> wait_;     // passes left before the body's island tries again
+  std::vector<std::int32_t> backoff_;  // the body's last wait; 0: its last try held
+  std::vector<std::int32_t> island_wait_;
+};
+
+}  // namespace linx::step
