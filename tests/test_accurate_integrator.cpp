@@ -311,5 +311,128 @@ TEST(AccurateIntegrator, JointForcesAreTheMomentumTheyGave) {
   EXPECT_LT(worst, 1e-9 * largest);
 }
 
+// Integrator "auto" on a pendulum: a 1 kg point mass on a 1 m massless rod (a hinge about z at the
+// origin, gravity along -y), released `angle` from hanging.
+World autoPendulum(IntegratorType type, double tolerance, double angle, double h) {
+  WorldSettings s;
+  s.timestep = h;
+  s.gravity = Vec3(0, -9.81, 0);
+  s.integrator = IntegratorSettings{.type = type, .tolerance = tolerance};
+  World w(s);
+  BodyDef d;
+  d.name = "bob";
+  d.mass = 1.0;
+  d.inertia = Vec3(1e-4, 1e-4, 1e-4).asDiagonal();
+  d.position = Vec3(std::sin(angle), -std::cos(angle), 0);
+  const BodyId bob = w.createBody(d);
+  w.createJoint(
+      "hinge",
+      JointDef{.name = "pivot", .body1 = bob, .anchor = Vec3::Zero(), .axis = Vec3::UnitZ()});
+  return w;
+}
+
+double pendulumEnergy(const World& w) {
+  const Body& b = w.body(w.bodyIds()[0]);
+  return 0.5 * b.linearVelocity().squaredNorm() +
+         0.5 * b.angularVelocity().dot(b.inertiaWorld() * b.angularVelocity()) +
+         9.81 * b.position().y();
+}
+
+TEST(AutoIntegrator, KeepsTheAccurateIntegratorWhereOneStepAFrameHoldsTheTolerance) {
+  // At tolerance 1e-6 one Runge-Kutta step of 10 ms holds a 1 m pendulum swinging 60 degrees:
+  // "auto" moves it by the accurate integrator on every frame, as "accurate" does, and so keeps
+  // its energy, where the step loses it.
+  const double angle = std::numbers::pi / 3.0, h = 0.01;
+  World a = autoPendulum(IntegratorType::Auto, 1e-6, angle, h);
+  World accurate = autoPendulum(IntegratorType::Accurate, 1e-6, angle, h);
+  World step = autoPendulum(IntegratorType::Step, 1e-6, angle, h);
+  const double e0 = pendulumEnergy(a), exchanged = 9.81 * (1.0 - std::cos(angle));
+  int frames_accurate = 0, frames = 0;
+  double apart = 0.0;
+  for (; a.time() < 20.0 - 1e-9; ++frames) {
+    a.step();
+    accurate.step();
+    step.step();
+    const IntegratorReport& r = a.lastIntegratorReport();
+    if (r.bodies == 1 && r.steps == 1 && r.rejected == 0) ++frames_accurate;
+    apart = std::max(
+        apart, (a.body(a.bodyIds()[0]).position() - accurate.body(accurate.bodyIds()[0]).position())
+                   .norm());
+  }
+  const double drift = std::abs(pendulumEnergy(a) - e0) / exchanged;
+  const double step_drift = std::abs(pendulumEnergy(step) - e0) / exchanged;
+  std::printf(
+      "auto: %d of %d frames accurate, %.3g m from \"accurate\", energy drift %.3g of the "
+      "exchanged (the step's %.3g)\n",
+      frames_accurate, frames, apart, drift, step_drift);
+  EXPECT_EQ(frames_accurate, frames);
+  EXPECT_LT(apart, 1e-14);
+  EXPECT_LT(drift, 1e-6);
+  EXPECT_GT(step_drift, 100.0 * drift);
+}
+
+TEST(AutoIntegrator, GivesTheStepWhatOneStepCannotHoldAndTriesAgainLater) {
+  // At tolerance 1e-12 one step of 10 ms misses on a pendulum released horizontal: the island
+  // takes the step, and moves exactly as with "step" (the try is undone), trying again 8, 16, 32,
+  // ... frames after each miss.
+  const double angle = std::numbers::pi / 2.0, h = 0.01;
+  World a = autoPendulum(IntegratorType::Auto, 1e-12, angle, h);
+  World step = autoPendulum(IntegratorType::Step, 1e-12, angle, h);
+  std::vector<int> tries;
+  double apart = 0.0;
+  for (int frame = 0; frame < 600; ++frame) {
+    a.step();
+    step.step();
+    const IntegratorReport& r = a.lastIntegratorReport();
+    EXPECT_EQ(r.bodies, 0) << "frame " << frame;
+    if (r.rejected > 0) tries.push_back(frame);
+    apart = std::max(
+        apart,
+        (a.body(a.bodyIds()[0]).position() - step.body(step.bodyIds()[0]).position()).norm());
+  }
+  EXPECT_EQ(tries, (std::vector<int>{0, 8, 24, 56, 120, 248, 504}));
+  EXPECT_EQ(apart, 0.0);
+}
+
+TEST(AutoIntegrator, ASavedStateCarriesTheWaits) {
+  // Saved in the middle of a wait (tries at frames 0, 8, 24, 56, 120, ..., all missing), a world
+  // tries again on the frames the one it was saved from does, and moves as it does.
+  World a = autoPendulum(IntegratorType::Auto, 3e-11, std::numbers::pi / 4.0, 0.01);
+  for (int i = 0; i < 30; ++i) a.step();
+  const WorldState saved = a.saveState();
+  std::vector<int> tries, again;
+  std::vector<Vec3> path;
+  for (int i = 30; i < 300; ++i) {
+    a.step();
+    if (a.lastIntegratorReport().rejected > 0) tries.push_back(i);
+    path.push_back(a.body(a.bodyIds()[0]).position());
+  }
+  a.restoreState(saved);
+  double apart = 0.0;
+  for (int i = 30; i < 300; ++i) {
+    a.step();
+    if (a.lastIntegratorReport().rejected > 0) again.push_back(i);
+    apart = std::max(
+        apart, (a.body(a.bodyIds()[0]).position() - path[static_cast<std::size_t>(i - 30)]).norm());
+  }
+  EXPECT_EQ(tries, (std::vector<int>{56, 120, 248}));
+  EXPECT_EQ(again, tries);
+  EXPECT_EQ(apart, 0.0);
+}
+
+TEST(AccurateIntegrator, JointReactionsWithTheSoftSolver) {
+  // The soft step measures its joints' loads in its substeps; those of an island the accurate
+  // integrator moved are its impulses over the frame: a bob hanging still pulls its pivot with
+  // its weight, m g = 9.81 N up on the bob, for either integrator.
+  for (const IntegratorType type : {IntegratorType::Accurate, IntegratorType::Auto}) {
+    World w = autoPendulum(type, 1e-10, 0.0, 0.01);
+    w.settings().solver.type = SolverType::Soft;
+    for (int i = 0; i < 10; ++i) w.step();
+    const JointReaction r = w.jointReaction(w.jointIds()[0]);
+    EXPECT_EQ(w.lastIntegratorReport().bodies, 1);
+    EXPECT_LT((r.force - Vec3(0, 9.81, 0)).norm(), 1e-9) << integratorTypeName(type);
+  }
+}
+
 }  // namespace
 }  // namespace linx

@@ -629,6 +629,7 @@ TEST(SceneIo, IntegratorReadsAsAStringOrAnObject) {
   };
   EXPECT_EQ(read(R"("step")").type, linx::IntegratorType::Step);
   EXPECT_EQ(read(R"("accurate")").type, linx::IntegratorType::Accurate);
+  EXPECT_EQ(read(R"("auto")").type, linx::IntegratorType::Auto);
   EXPECT_EQ(read(R"("accurate")").tolerance, linx::IntegratorSettings{}.tolerance);
   const linx::IntegratorSettings s = read(R"({"type": "accurate", "tolerance": 1e-8})");
   EXPECT_EQ(s.type, linx::IntegratorType::Accurate);

@@ -44,9 +44,10 @@ int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
                                std::span<const Body> bodies, std::span<const Row> rows,
                                std::size_t joint_rows, const Islands& islands,
                                std::span<const std::uint8_t> island_awake,
-                               const SolverSettings& settings,
+                               const SolverSettings& settings, bool jointed_only,
                                std::vector<std::uint8_t>& accurate) {
-  island_ok_.assign(static_cast<std::size_t>(islands.count()), 1);
+  // 1: it may; 0: it may not; 2: it may once a joint row shows it is jointed (jointed_only).
+  island_ok_.assign(static_cast<std::size_t>(islands.count()), jointed_only ? 2 : 1);
   for (std::size_t i = 0; i < island_ok_.size(); ++i)
     if (!island_awake.empty() && island_awake[i] == 0) island_ok_[i] = 0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -55,14 +56,18 @@ int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
     if (island < 0) continue;
     const bool held =
         k < joint_rows && (holdsExactly(rows[k], settings) || actsAsForce(rows[k], joints));
-    if (!held || kinematic) island_ok_[static_cast<std::size_t>(island)] = 0;
+    std::uint8_t& ok = island_ok_[static_cast<std::size_t>(island)];
+    if (!held || kinematic)
+      ok = 0;
+    else if (ok == 2)
+      ok = 1;
   }
   accurate.assign(bodies.size(), 0);
   int count = 0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     if (!bodies[i].isDynamic()) continue;
     const int island = islands.islandOf(static_cast<int>(i));
-    if (island >= 0 && island_ok_[static_cast<std::size_t>(island)]) {
+    if (island >= 0 && island_ok_[static_cast<std::size_t>(island)] == 1) {
       accurate[i] = 1;
       ++count;
     }
@@ -291,8 +296,9 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
 
 IntegratorReport AccurateIntegrator::tryOneStep(
     std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
-    const WorldSettings& settings, const Islands& islands, std::vector<std::uint8_t>& accurate,
-    double time, double h, int threads, std::span<Row> rows, std::span<double> lambda) {
+    const WorldSettings& settings, const Islands& islands, std::span<const double> limits,
+    std::vector<std::uint8_t>& accurate, double time, double h, int threads, std::span<Row> rows,
+    std::span<double> lambda) {
   begin(joints, bodies, settings, accurate, threads);
   IntegratorReport report;
   if (ids_.empty()) return report;
@@ -302,8 +308,9 @@ IntegratorReport AccurateIntegrator::tryOneStep(
   // Each island on its own error: the islands do not act on each other.
   island_error_.assign(static_cast<std::size_t>(islands.count()), 0.0);
   for (std::size_t n = 0; n < ids_.size(); ++n) {
-    double& e = island_error_[static_cast<std::size_t>(islands.islandOf(ids_[n]))];
-    e = std::max(e, bodyError(n, settings.integrator.tolerance));
+    const auto island = static_cast<std::size_t>(islands.islandOf(ids_[n]));
+    double& e = island_error_[island];
+    e = std::max(e, bodyError(n, settings.integrator.tolerance) / limits[island]);
   }
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     if (island_error_[static_cast<std::size_t>(islands.islandOf(ids_[n]))] <= 1.0)

@@ -38,12 +38,12 @@ class AccurateIntegrator {
   /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly) or rows it applies
   /// as forces (actsAsForce: coordinate forces, springs, servos); an island with a contact, a
   /// limit, a velocity motor, friction, armature, a prescribed motion or a joint to a kinematic
-  /// body takes the step. The first `joint_rows` rows are the joints'. Returns how
-  /// many bodies it flagged.
+  /// body takes the step; with `jointed_only`, so does an island without a joint row (a free
+  /// body). The first `joint_rows` rows are the joints'. Returns how many bodies it flagged.
   int select(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
              std::span<const Row> rows, std::size_t joint_rows, const Islands& islands,
              std::span<const std::uint8_t> island_awake, const SolverSettings& settings,
-             std::vector<std::uint8_t>& accurate);
+             bool jointed_only, std::vector<std::uint8_t>& accurate);
 
   /// Moves the flagged bodies from their state at `time` to time + h. Writes each of `rows`' share
   /// of the joints' impulses over the frame into `lambda`, and its mean direction over the frame
@@ -56,14 +56,15 @@ class AccurateIntegrator {
                            std::span<double> lambda);
 
   /// Integrator "auto": one step of length h for each flagged island, from the bodies' state at
-  /// `time`. An island whose local error stays within the tolerance keeps it (projected, its
-  /// impulses into `rows` and `lambda` as with advance); the flags of the others are cleared in
-  /// `accurate`, their bodies left for the caller to put back. `islands`: those of the bodies.
+  /// `time`. An island whose local error stays within its share of the tolerance (`limits`, per
+  /// island) keeps it (projected, its impulses into `rows` and `lambda` as with advance); the flags
+  /// of the others are cleared in `accurate`, their bodies left for the caller to put back.
+  /// `islands`: those of the bodies.
   IntegratorReport tryOneStep(std::span<const std::unique_ptr<Joint>> joints,
                               std::span<Body> bodies, const WorldSettings& settings,
-                              const Islands& islands, std::vector<std::uint8_t>& accurate,
-                              double time, double h, int threads, std::span<Row> rows,
-                              std::span<double> lambda);
+                              const Islands& islands, std::span<const double> limits,
+                              std::vector<std::uint8_t>& accurate, double time, double h,
+                              int threads, std::span<Row> rows, std::span<double> lambda);
 
   /// Reads or writes what carries to the next frame (World::saveState): the step size the last
   /// frame's error proposed.

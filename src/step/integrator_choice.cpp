@@ -14,11 +14,13 @@ int IntegratorChoice::keepTrying(const Islands& islands, std::vector<std::uint8_
   // An island waits as long as its longest-waiting body: bodies that tried apart and now share
   // an island try again together.
   island_wait_.assign(static_cast<std::size_t>(islands.count()), 0);
+  island_limit_.assign(static_cast<std::size_t>(islands.count()), 1.0);
   for (std::size_t i = 0; i < n; ++i) {
     const int island = islands.islandOf(static_cast<int>(i));
     if (accurate[i] && island >= 0) {
-      std::int32_t& w = island_wait_[static_cast<std::size_t>(island)];
-      w = std::max(w, wait_[i]);
+      const auto k = static_cast<std::size_t>(island);
+      island_wait_[k] = std::max(island_wait_[k], wait_[i]);
+      if (backoff_[i] > 0) island_limit_[k] = kReturnMargin;
     }
   }
   int count = 0;

@@ -26,6 +26,13 @@ class IntegratorChoice {
   /// one more pass of every wait. Returns how many bodies stay flagged.
   int keepTrying(const Islands& islands, std::vector<std::uint8_t>& accurate);
 
+  /// Per island (after keepTrying): the share of the tolerance its step must hold. An island that
+  /// failed its last try must hold kReturnMargin of it, one that kept it the whole tolerance: an
+  /// island on the edge does not switch back and forth. (Each switch between the step, first order
+  /// and symplectic, and the accurate integrator costs a mass-spring oscillator of 100 steps a
+  /// period about 0.1 % of its amplitude.)
+  std::span<const double> errorLimits() const { return island_limit_; }
+
   /// After the pass: `tried` flagged the bodies that tried, `kept` those whose island's step held
   /// the tolerance. A body that tried and failed waits twice as long as last time (8 at first).
   void record(std::span<const std::uint8_t> tried, std::span<const std::uint8_t> kept);
@@ -35,11 +42,14 @@ class IntegratorChoice {
 
   static constexpr int kFirstWait = 8;  ///< passes after a first failure
   static constexpr int kLongestWait = 256;
+  /// A step half as long as the one that holds the tolerance errs 2^-5 of it (fifth order).
+  static constexpr double kReturnMargin = 1.0 / 32.0;
 
  private:
   std::vector<std::int32_t> wait_;     // passes left before the body's island tries again
   std::vector<std::int32_t> backoff_;  // the body's last wait; 0: its last try held
   std::vector<std::int32_t> island_wait_;
+  std::vector<double> island_limit_;
 };
 
 }  // namespace linx::step

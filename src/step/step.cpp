@@ -127,7 +127,8 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
   const bool selected =
       type != IntegratorType::Step &&
       state.accurate.select(scene.joints, scene.bodies, state.rows.rows, state.rows.joint_rows,
-                            state.islands, island_awake, scene.settings.solver, accurate) > 0 &&
+                            state.islands, island_awake, scene.settings.solver,
+                            type == IntegratorType::Auto, accurate) > 0 &&
       (type != IntegratorType::Auto || state.choice.keepTrying(state.islands, accurate) > 0);
   if (!selected) {
     accurate.assign(scene.bodies.size(), 0);
@@ -146,8 +147,8 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
     std::vector<std::uint8_t>& tried = state.tried_accurate;
     tried = accurate;
     state.accurate_report = state.accurate.tryOneStep(
-        scene.joints, scene.bodies, scene.settings, state.islands, accurate, scene.time, h,
-        scene.threads, state.rows.rows, state.rows.lambda);
+        scene.joints, scene.bodies, scene.settings, state.islands, state.choice.errorLimits(),
+        accurate, scene.time, h, scene.threads, state.rows.rows, state.rows.lambda);
     state.choice.record(tried, accurate);
     // The islands that refused take the solve from where the velocities stage left them.
     std::size_t k = 0;
@@ -175,6 +176,24 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
 
 bool accurate(const State& state, std::size_t body) {
   return body < state.accurate_bodies.size() && state.accurate_bodies[body] != 0;
+}
+
+/// The joint rows of the islands the accurate integrator moved, with their impulses over the pass
+/// (the soft step measures its joints' loads in its substeps, without these).
+void keepAccurateJointRows(const State& state, std::vector<Row>& rows,
+                           std::vector<double>& lambda) {
+  rows.clear();
+  lambda.clear();
+  if (state.accurate_report.bodies == 0) return;
+  for (std::size_t k = 0; k < state.rows.joint_rows; ++k) {
+    bool moved = false;
+    state.rows.rows[k].forEachBlock([&](int body, const Vec6&) {
+      if (body >= 0 && accurate(state, static_cast<std::size_t>(body))) moved = true;
+    });
+    if (!moved) continue;
+    rows.push_back(state.rows.rows[k]);
+    lambda.push_back(state.rows.lambda[k]);
+  }
 }
 
 /// solve: gathers the compact solver bodies (u*), solves every awake island with the world's
@@ -452,8 +471,12 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   prepareRows(scene, state, dt / n, dt, false, false);
   const std::span<const std::uint8_t> island_awake =
       integrateAccurately(scene, state, buildIslands(scene, state, 0.0), dt);
+  keepAccurateJointRows(state, state.accurate_rows, state.accurate_lambda);
   if (scene.settings.solver.post_stabilization > 0) state.stabilization.beginStep(scene.bodies);
   const SolverReport report = substeps(scene, state, island_awake, dt);
+  if (!state.accurate_rows.empty())
+    state.joint_loads.measure(state.accurate_rows, state.accurate_lambda, dt, scene.joints,
+                              scene.bodies, true);
   storeImpulses(scene, state, dt, true);
   stabilize(scene, state, scene.time + dt);
   trackJoints(scene);

@@ -113,6 +113,8 @@ struct State {
   std::vector<std::uint8_t> accurate_bodies;  // moved by `accurate` this pass (one per body)
   std::vector<std::uint8_t> tried_accurate;   // "auto": the bodies that tried it
   std::vector<BodyState> before_accurate;     // their state before, in body order
+  std::vector<Row> accurate_rows;             // soft step: the joint rows `accurate` moved
+  std::vector<double> accurate_lambda;        // and their impulses
   std::vector<std::uint8_t> island_stepped;   // awake islands the step solves
   IntegratorReport accurate_report;
   std::vector<int> neighbours;
