@@ -13,9 +13,10 @@ enum class IntegratorType {
   /// order 5 on the index-1 equations of motion, projected onto the joints' manifold after each of
   /// its steps; the others take the step.
   Accurate,
-  /// The accurate integrator on each island of joints alone where one of its steps a frame holds
-  /// the tolerance (it then costs about 1.5 times the step), else the step; an island that fails
-  /// tries again 8, 16, ... up to 256 frames later (docs/integrators.md).
+  /// The accurate integrator on each island of joints alone (at least one) on the frames where
+  /// one of its steps holds the tolerance (it then costs 1.5 to 2.6 times the step), else the
+  /// step; an island that misses tries again 8, 16, ... up to 256 frames later
+  /// (docs/integrators.md).
   Auto,
 };
 

@@ -1,11 +1,11 @@
 // Integrator "auto" (docs/integrators.md): which islands of joints alone try the accurate
 // integrator in a pass. An island that tries takes one Runge-Kutta step over the whole pass; where
-// that step holds the tolerance it costs about 1.5 times the step (A01 and the spatial
-// slider-crank, measured) and keeps it; where it does not, the island takes the step for that
-// pass and waits 8 passes before it tries again, then 16, 32 and so on up to 256 while it keeps
-// failing, so that an island the accurate integrator would need several steps a pass for costs
-// the step's price plus under 1 %. The waits are counted in passes, not seconds: a run repeats
-// exactly, and a saved state carries them.
+// that step holds the tolerance the island keeps it (1.5 times the step's cost on the IFToMM
+// pendulum, 2.6 on the spatial slider-crank, measured); where it does not, the island takes the
+// step for that pass and tries again 8 passes later, then 16, 32 and so on up to 256 while it
+// keeps failing, so that an island the accurate integrator would need several steps a pass for
+// costs the step's price plus under 1 %. The waits are counted in passes, not seconds: a run
+// repeats exactly, and a saved state carries them.
 #pragma once
 
 #include "step/islands.hpp"
