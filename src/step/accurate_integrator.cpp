@@ -89,6 +89,13 @@ void AccurateIntegrator::put(std::span<const Motion> state, std::span<Body> bodi
   }
 }
 
+Vec3 AccurateIntegrator::anchorArm(const Row& r) const {
+  const std::size_t owner = static_cast<std::size_t>(r.key >> 8);
+  if (owner == 0 || owner > joints_.size()) return Vec3::Zero();
+  const Joint& j = *joints_[owner - 1];
+  return bodies_[static_cast<std::size_t>(j.body1().index)].orientation() * j.anchor1();
+}
+
 void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::span<Motion> rate,
                                std::vector<Row>& forces) {
   put(state, bodies_);
@@ -101,7 +108,14 @@ void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::
   const std::span<const Row> rows = dynamics_.rows();
   const std::span<const double> f = dynamics_.forces();
   forces.assign(rows.begin(), rows.end());
-  for (std::size_t k = 0; k < rows.size(); ++k) forces[k].speed = f[k];
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    forces[k].speed = f[k];
+    // Body1's angular part about the joint's anchor here: summed over the stages, it is the
+    // torque the joint passed at its anchor (putImpulses takes it back about the centre of mass
+    // at the frame's end, where the joint's loads are measured).
+    const Vec3 arm = anchorArm(forces[k]);
+    forces[k].Ja.tail<3>() -= arm.cross(forces[k].Ja.head<3>());
+  }
   for (const Motion& r : rate)
     if (!(r.v.allFinite() && r.w.allFinite()))
       throw std::domain_error("accurate integrator: the accelerations are not finite");
@@ -232,6 +246,7 @@ void AccurateIntegrator::putImpulses(std::span<Row> rows, std::span<double> lamb
     if (!(std::abs(i.lambda) > 1e-300)) continue;
     Row& r = rows[k];
     r.Ja = i.Ja / i.lambda;
+    r.Ja.tail<3>() += anchorArm(r).cross(r.Ja.head<3>());
     r.Jb = i.Jb / i.lambda;
     r.Jc = i.Jc / i.lambda;
     r.Jd = i.Jd / i.lambda;

@@ -83,6 +83,9 @@ class AccurateIntegrator {
   void rates(std::span<const Motion> state, double time, std::span<Motion> rate,
              std::vector<Row>& forces);
   void put(std::span<const Motion> state, std::span<Body> bodies) const;
+  /// From body1's centre of mass to the anchor of the joint that owns row `r` (keys
+  /// (joint + 1) << 8 | slot), in the world frame, at the bodies' poses now.
+  Vec3 anchorArm(const Row& r) const;
   /// Lends the frame's world to the steps below and sizes the buffers.
   void begin(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
              const WorldSettings& settings, std::span<const std::uint8_t> accurate, int threads);
