@@ -48,7 +48,8 @@ class AccurateIntegrator {
   /// Moves the flagged bodies from their state at `time` to time + h. Writes each of `rows`' share
   /// of the joints' impulses over the frame into `lambda`, and its mean direction over the frame
   /// into its J (by key; the rows of the flagged bodies), so that J^T lambda is what the joint
-  /// applied over the frame.
+  /// applied over the frame (body1's torque: the mean about the moving anchor, taken about
+  /// body1's centre at the frame's end, where the joint's loads are measured).
   /// Throws std::domain_error when the state stops being finite or the step size collapses.
   IntegratorReport advance(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
                            const WorldSettings& settings, std::span<const std::uint8_t> accurate,

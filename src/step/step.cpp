@@ -124,13 +124,15 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
   state.accurate_report = IntegratorReport{};
   std::vector<std::uint8_t>& accurate = state.accurate_bodies;
   const IntegratorType type = scene.settings.integrator.type;
-  const bool selected =
-      type != IntegratorType::Step &&
-      state.accurate.select(scene.joints, scene.bodies, state.rows.rows, state.rows.joint_rows,
-                            state.islands, island_awake, scene.settings.solver,
-                            type == IntegratorType::Auto, accurate) > 0 &&
-      (type != IntegratorType::Auto || state.choice.keepTrying(state.islands, accurate) > 0);
-  if (!selected) {
+  int count =
+      type == IntegratorType::Step
+          ? 0
+          : state.accurate.select(scene.joints, scene.bodies, state.rows.rows,
+                                  state.rows.joint_rows, state.islands, island_awake,
+                                  scene.settings.solver, type == IntegratorType::Auto, accurate);
+  // (Every pass counts down the waits, whether or not an island could try.)
+  if (type == IntegratorType::Auto) count = state.choice.keepTrying(state.islands, accurate);
+  if (count == 0) {
     accurate.assign(scene.bodies.size(), 0);
     return island_awake;
   }
