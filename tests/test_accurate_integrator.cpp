@@ -376,8 +376,13 @@ TEST(AutoIntegrator, GivesTheStepWhatOneStepCannotHoldAndTriesAgainLater) {
   // takes the step, and moves exactly as with "step" (the try is undone), trying again 8, 16, 32,
   // ... frames after each miss.
   const double angle = std::numbers::pi / 2.0, h = 0.01;
-  World a = autoPendulum(IntegratorType::Auto, 1e-12, angle, h);
+  // (Both take their first frame by the step: released at rest, a body's velocity is exact, and
+  // "auto" hands the step a velocity half a step behind, as the step's own are.)
+  World a = autoPendulum(IntegratorType::Step, 1e-12, angle, h);
   World step = autoPendulum(IntegratorType::Step, 1e-12, angle, h);
+  a.step();
+  step.step();
+  a.settings().integrator.type = IntegratorType::Auto;
   std::vector<int> tries;
   double apart = 0.0;
   for (int frame = 0; frame < 600; ++frame) {

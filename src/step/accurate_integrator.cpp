@@ -176,6 +176,20 @@ void AccurateIntegrator::take() {
   }
 }
 
+bool AccurateIntegrator::catchUp(const VelocityLag& lag, double time) {
+  if (lag.behind.empty()) return false;
+  bool any = false;
+  for (const int i : ids_) any = any || lag.behind[static_cast<std::size_t>(i)] != 0;
+  if (!any) return false;
+  rates(y0_, time, k_[0], stage_rows_[0]);
+  for (std::size_t n = 0; n < ids_.size(); ++n) {
+    if (!lag.behind[static_cast<std::size_t>(ids_[n])]) continue;
+    y0_[n].v += lag.time * k_[0][n].v;
+    y0_[n].w += lag.time * k_[0][n].w;
+  }
+  return true;
+}
+
 double AccurateIntegrator::attempt(double time, double dt) {
   const std::size_t n = ids_.size();
   // Stage s's state is y0 + dt sum_j a[s][j] k_j; the last stage's is the fifth-order solution.
@@ -255,14 +269,16 @@ void AccurateIntegrator::putImpulses(std::span<Row> rows, std::span<double> lamb
 
 IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
                                              std::span<Body> bodies, const WorldSettings& settings,
-                                             std::span<const std::uint8_t> accurate, double time,
-                                             double h, int threads, std::span<Row> rows,
+                                             std::span<const std::uint8_t> accurate,
+                                             const VelocityLag& lag, double time, double h,
+                                             int threads, std::span<Row> rows,
                                              std::span<double> lambda) {
   begin(joints, bodies, settings, accurate, threads);
   IntegratorReport report;
   report.bodies = static_cast<int>(ids_.size());
   if (ids_.empty()) return report;
   take();
+  catchUp(lag, time);
   const SolverSettings& solver = settings.solver;
   double t = 0.0;  // into the frame
   // The next step's size: the last frame's proposal, else the whole frame.
@@ -312,12 +328,15 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
 IntegratorReport AccurateIntegrator::tryOneStep(
     std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
     const WorldSettings& settings, const Islands& islands, std::span<const double> limits,
-    std::vector<std::uint8_t>& accurate, double time, double h, int threads, std::span<Row> rows,
-    std::span<double> lambda) {
+    std::vector<std::uint8_t>& accurate, const VelocityLag& lag, double time, double h, int threads,
+    std::span<Row> rows, std::span<double> lambda) {
   begin(joints, bodies, settings, accurate, threads);
   IntegratorReport report;
+  lag_v_.assign(bodies.size(), Vec3::Zero());
+  lag_w_.assign(bodies.size(), Vec3::Zero());
   if (ids_.empty()) return report;
   take();
+  catchUp(lag, time);
   rates(y0_, time, k_[0], stage_rows_[0]);
   attempt(time, h);
   // Each island on its own error: the islands do not act on each other.
@@ -328,10 +347,16 @@ IntegratorReport AccurateIntegrator::tryOneStep(
     e = std::max(e, bodyError(n, settings.integrator.tolerance) / limits[island]);
   }
   for (std::size_t n = 0; n < ids_.size(); ++n) {
-    if (island_error_[static_cast<std::size_t>(islands.islandOf(ids_[n]))] <= 1.0)
+    const auto i = static_cast<std::size_t>(ids_[n]);
+    if (island_error_[static_cast<std::size_t>(islands.islandOf(ids_[n]))] <= 1.0) {
       ++report.bodies;
-    else
-      accurate[static_cast<std::size_t>(ids_[n])] = 0;
+      continue;
+    }
+    accurate[i] = 0;
+    if (lag.behind.empty() || !lag.behind[i]) {
+      lag_v_[i] = lag.time * k_[0][n].v;
+      lag_w_[i] = lag.time * k_[0][n].w;
+    }
   }
   for (const double e : island_error_)
     if (!(e <= 1.0)) ++report.rejected;

@@ -24,6 +24,7 @@
 #include <memory>
 #include <span>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace linx::state {
@@ -31,6 +32,17 @@ class Archive;
 }
 
 namespace linx::step {
+
+/// Which bodies' velocities the step left behind the time of their positions, and by how much.
+/// The step updates a velocity before the positions move by it (symplectic Euler): its velocity
+/// is, to second order, the one half a (sub)step earlier. A body that comes from the step to the
+/// accurate integrator catches up by that much of its acceleration, and one that goes from it to
+/// the step falls back by it (velocityLag): without it an oscillator jumps in amplitude by up to
+/// omega h at each switch.
+struct VelocityLag {
+  std::span<const std::uint8_t> behind;  ///< one flag per body: its velocity is the step's
+  double time = 0.0;                     ///< (s) half the step's (sub)step
+};
 
 class AccurateIntegrator {
  public:
@@ -53,8 +65,8 @@ class AccurateIntegrator {
   /// Throws std::domain_error when the state stops being finite or the step size collapses.
   IntegratorReport advance(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
                            const WorldSettings& settings, std::span<const std::uint8_t> accurate,
-                           double time, double h, int threads, std::span<Row> rows,
-                           std::span<double> lambda);
+                           const VelocityLag& lag, double time, double h, int threads,
+                           std::span<Row> rows, std::span<double> lambda);
 
   /// Integrator "auto": one step of length h for each flagged island, from the bodies' state at
   /// `time`. An island whose local error stays within its share of the tolerance (`limits`, per
@@ -64,8 +76,12 @@ class AccurateIntegrator {
   IntegratorReport tryOneStep(std::span<const std::unique_ptr<Joint>> joints,
                               std::span<Body> bodies, const WorldSettings& settings,
                               const Islands& islands, std::span<const double> limits,
-                              std::vector<std::uint8_t>& accurate, double time, double h,
-                              int threads, std::span<Row> rows, std::span<double> lambda);
+                              std::vector<std::uint8_t>& accurate, const VelocityLag& lag,
+                              double time, double h, int threads, std::span<Row> rows,
+                              std::span<double> lambda);
+  /// After tryOneStep, for a body it gave back to the step whose velocity was not behind: the lag
+  /// the step's velocity should have, lag.time times its acceleration (linear, angular).
+  std::pair<Vec3, Vec3> velocityLag(std::size_t body) const { return {lag_v_[body], lag_w_[body]}; }
 
   /// Reads or writes what carries to the next frame (World::saveState): the step size the last
   /// frame's error proposed.
@@ -92,6 +108,9 @@ class AccurateIntegrator {
              const WorldSettings& settings, std::span<const std::uint8_t> accurate, int threads);
   /// y0 from the bodies; throws std::domain_error when it is not finite.
   void take();
+  /// The bodies `lag` says are behind catch up: v += lag.time dv/dt at y0. Returns whether any
+  /// did (k_[0] then holds the rates before the catch-up).
+  bool catchUp(const VelocityLag& lag, double time);
   /// One Runge-Kutta step of length dt from y0 (k_[0] holding its rates) at `time`: the stages,
   /// the fifth-order solution in y1, and the local error's norm against the tolerance.
   double attempt(double time, double dt);
@@ -125,6 +144,7 @@ class AccurateIntegrator {
   std::array<std::vector<Row>, 7> stage_rows_;  // each stage's rows, with their force in `speed`
   std::unordered_map<std::uint64_t, Impulse> impulses_;
   std::vector<Vec3> dv_, dw_;
+  std::vector<Vec3> lag_v_, lag_w_;  // tryOneStep: velocityLag, one per body
   std::vector<std::uint8_t> island_ok_;
   std::vector<double> island_error_;
   ConstrainedDynamics dynamics_;

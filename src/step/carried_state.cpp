@@ -8,7 +8,7 @@ namespace linx::step {
 
 void State::persist(state::Archive& a) {
   a.fields(joint_warm, joint_loads, contact, islands, sleep, stabilization, geometric_stiffness,
-           last_joint_impulses, accurate, choice);
+           last_joint_impulses, accurate, choice, behind);
 }
 
 }  // namespace linx::step

@@ -112,6 +112,18 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
   return island_awake;
 }
 
+/// After the accurate stage: the awake bodies the step moves this pass are behind (VelocityLag),
+/// those the accurate integrator moves are not.
+void markBehind(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake) {
+  state.behind.resize(scene.bodies.size(), 0);
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const int island = state.islands.islandOf(static_cast<int>(i));
+    const bool sleeping =
+        !island_awake.empty() && island >= 0 && !island_awake[static_cast<std::size_t>(island)];
+    if (scene.bodies[i].isDynamic() && !sleeping) state.behind[i] = !state.accurate_bodies[i];
+  }
+}
+
 /// accurate: with integrator "accurate", the awake islands of joints alone (no contact, limit,
 /// motor or drive rows) move over the pass by the accurate integrator from their state at its
 /// start (the velocities before the velocities stage), and their joints' impulses become the
@@ -120,7 +132,7 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
 /// islands left to the solve (empty: all).
 std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& state,
                                                   std::span<const std::uint8_t> island_awake,
-                                                  double h) {
+                                                  double h, double lag) {
   state.accurate_report = IntegratorReport{};
   std::vector<std::uint8_t>& accurate = state.accurate_bodies;
   const IntegratorType type = scene.settings.integrator.type;
@@ -134,8 +146,10 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
   if (type == IntegratorType::Auto) count = state.choice.keepTrying(state.islands, accurate);
   if (count == 0) {
     accurate.assign(scene.bodies.size(), 0);
+    markBehind(scene, state, island_awake);
     return island_awake;
   }
+  const VelocityLag velocity_lag{state.behind, lag};
   std::vector<BodyState>& before = state.before_accurate;
   before.clear();
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
@@ -150,23 +164,26 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
     tried = accurate;
     state.accurate_report = state.accurate.tryOneStep(
         scene.joints, scene.bodies, scene.settings, state.islands, state.choice.errorLimits(),
-        accurate, scene.time, h, scene.threads, state.rows.rows, state.rows.lambda);
+        accurate, velocity_lag, scene.time, h, scene.threads, state.rows.rows, state.rows.lambda);
     state.choice.record(tried, accurate);
-    // The islands that refused take the solve from where the velocities stage left them.
+    // The islands that refused take the solve from where the velocities stage left them, behind
+    // by the step's lag if the accurate integrator had moved them.
     std::size_t k = 0;
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
       if (!tried[i]) continue;
       const BodyState& b = before[k++];
       if (accurate[i]) continue;
+      const auto [lag_v, lag_w] = state.accurate.velocityLag(i);
       scene.bodies[i].setPose(b.pose);
-      scene.bodies[i].setLinearVelocity(b.v);
-      scene.bodies[i].setAngularVelocity(b.w);
+      scene.bodies[i].setLinearVelocity(b.v - lag_v);
+      scene.bodies[i].setAngularVelocity(b.w - lag_w);
     }
   } else {
     state.accurate_report =
-        state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, scene.time, h,
-                               scene.threads, state.rows.rows, state.rows.lambda);
+        state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, velocity_lag,
+                               scene.time, h, scene.threads, state.rows.rows, state.rows.lambda);
   }
+  markBehind(scene, state, island_awake);
   std::vector<std::uint8_t>& stepped = state.island_stepped;
   stepped.assign(static_cast<std::size_t>(state.islands.count()), 1);
   if (!island_awake.empty()) std::copy(island_awake.begin(), island_awake.end(), stepped.begin());
@@ -452,7 +469,7 @@ SolverReport pass(const Scene& scene, State& state, double h) {
   collide(scene, state, h, scene.settings.contact);
   prepareRows(scene, state, h, h, true, true);
   const std::span<const std::uint8_t> island_awake =
-      integrateAccurately(scene, state, buildIslands(scene, state, h), h);
+      integrateAccurately(scene, state, buildIslands(scene, state, h), h, 0.5 * h);
   const SolverReport report = solve(scene, state, island_awake, h);
   storeImpulses(scene, state, h, false);
   integratePositions(scene, state, h);
@@ -472,7 +489,8 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   keepStartVelocities(scene.bodies, state.start_velocities);
   prepareRows(scene, state, dt / n, dt, false, false);
   const std::span<const std::uint8_t> island_awake =
-      integrateAccurately(scene, state, buildIslands(scene, state, 0.0), dt);
+      integrateAccurately(scene, state, buildIslands(scene, state, 0.0), dt,
+                          0.5 * dt / std::max(1, scene.settings.solver.substeps));
   keepAccurateJointRows(state, state.accurate_rows, state.accurate_lambda);
   if (scene.settings.solver.post_stabilization > 0) state.stabilization.beginStep(scene.bodies);
   const SolverReport report = substeps(scene, state, island_awake, dt);
