@@ -40,6 +40,16 @@ Eigen::Vector4d quaternionRate(const Vec3& w, const Eigen::Vector4d& q) {
 
 }  // namespace
 
+bool onFlaggedBody(const Row& r, std::span<const std::uint8_t> flags) {
+  bool any = false;
+  r.forEachBlock([&](int body, const Vec6&) {
+    if (body >= 0 && static_cast<std::size_t>(body) < flags.size() &&
+        flags[static_cast<std::size_t>(body)])
+      any = true;
+  });
+  return any;
+}
+
 int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
                                std::span<const Body> bodies, std::span<const Row> rows,
                                std::size_t joint_rows, const Islands& islands,
@@ -227,18 +237,11 @@ double AccurateIntegrator::attempt(double time, double dt) {
 }
 
 void AccurateIntegrator::addImpulses(double dt, std::span<const std::uint8_t> only) {
-  const auto flagged = [&](const Row& r) {
-    bool any = false;
-    r.forEachBlock([&](int body, const Vec6&) {
-      if (body >= 0 && only[static_cast<std::size_t>(body)]) any = true;
-    });
-    return any;
-  };
   for (int s = 0; s < dp::kStages; ++s) {
     const double w = dp::b[static_cast<std::size_t>(s)] * dt;
     if (w == 0.0) continue;
     for (const Row& r : stage_rows_[static_cast<std::size_t>(s)]) {
-      if (!only.empty() && !flagged(r)) continue;
+      if (!only.empty() && !onFlaggedBody(r, only)) continue;
       Impulse& i = impulses_[r.key];
       const double l = w * r.speed;
       i.lambda += l;

@@ -44,6 +44,9 @@ struct VelocityLag {
   double time = 0.0;                     ///< (s) half the step's (sub)step
 };
 
+/// Whether one of row r's bodies is flagged in `flags` (one per body).
+bool onFlaggedBody(const Row& r, std::span<const std::uint8_t> flags);
+
 class AccurateIntegrator {
  public:
   /// Flags in `accurate` (one per body) the bodies of the awake islands it moves: islands of

@@ -124,6 +124,30 @@ void markBehind(const Scene& scene, State& state, std::span<const std::uint8_t> 
   }
 }
 
+/// "auto": the flagged islands try one step of the accurate integrator (from the start velocities
+/// the bodies hold, their state before in `before_accurate`); those that refuse are cleared from
+/// `accurate_bodies` and take the solve from where the velocities stage left them, behind by the
+/// step's lag if the accurate integrator had moved them.
+void tryOneAccurateStep(const Scene& scene, State& state, const VelocityLag& lag, double h) {
+  std::vector<std::uint8_t>& accurate = state.accurate_bodies;
+  std::vector<std::uint8_t>& tried = state.tried_accurate;
+  tried = accurate;
+  state.accurate_report = state.accurate.tryOneStep(
+      scene.joints, scene.bodies, scene.settings, state.islands, state.choice.errorLimits(),
+      accurate, lag, scene.time, h, scene.threads, state.rows.rows, state.rows.lambda);
+  state.choice.record(tried, accurate);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    if (!tried[i]) continue;
+    const BodyState& b = state.before_accurate[k++];
+    if (accurate[i]) continue;
+    const auto [lag_v, lag_w] = state.accurate.velocityLag(i);
+    scene.bodies[i].setPose(b.pose);
+    scene.bodies[i].setLinearVelocity(b.v - lag_v);
+    scene.bodies[i].setAngularVelocity(b.w - lag_w);
+  }
+}
+
 /// accurate: with integrator "accurate", the awake islands of joints alone (no contact, limit,
 /// motor or drive rows) move over the pass by the accurate integrator from their state at its
 /// start (the velocities before the velocities stage), and their joints' impulses become the
@@ -160,24 +184,7 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
     b.setAngularVelocity(state.start_velocities[i].w);
   }
   if (type == IntegratorType::Auto) {
-    std::vector<std::uint8_t>& tried = state.tried_accurate;
-    tried = accurate;
-    state.accurate_report = state.accurate.tryOneStep(
-        scene.joints, scene.bodies, scene.settings, state.islands, state.choice.errorLimits(),
-        accurate, velocity_lag, scene.time, h, scene.threads, state.rows.rows, state.rows.lambda);
-    state.choice.record(tried, accurate);
-    // The islands that refused take the solve from where the velocities stage left them, behind
-    // by the step's lag if the accurate integrator had moved them.
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-      if (!tried[i]) continue;
-      const BodyState& b = before[k++];
-      if (accurate[i]) continue;
-      const auto [lag_v, lag_w] = state.accurate.velocityLag(i);
-      scene.bodies[i].setPose(b.pose);
-      scene.bodies[i].setLinearVelocity(b.v - lag_v);
-      scene.bodies[i].setAngularVelocity(b.w - lag_w);
-    }
+    tryOneAccurateStep(scene, state, velocity_lag, h);
   } else {
     state.accurate_report =
         state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, velocity_lag,
@@ -205,11 +212,7 @@ void keepAccurateJointRows(const State& state, std::vector<Row>& rows,
   lambda.clear();
   if (state.accurate_report.bodies == 0) return;
   for (std::size_t k = 0; k < state.rows.joint_rows; ++k) {
-    bool moved = false;
-    state.rows.rows[k].forEachBlock([&](int body, const Vec6&) {
-      if (body >= 0 && accurate(state, static_cast<std::size_t>(body))) moved = true;
-    });
-    if (!moved) continue;
+    if (!onFlaggedBody(state.rows.rows[k], state.accurate_bodies)) continue;
     rows.push_back(state.rows.rows[k]);
     lambda.push_back(state.rows.lambda[k]);
   }
