@@ -21,7 +21,7 @@ enum class IntegratorType {
 };
 
 struct IntegratorSettings {
-  IntegratorType type = IntegratorType::Step;
+  IntegratorType type = IntegratorType::Auto;
   /// The accurate integrator's local error bound, per step of it, on each position (m), rotation
   /// (rad) and velocity (m/s, rad/s), relative to the larger of 1 and the value's size: a frame
   /// that would err more is split into smaller steps.

@@ -68,6 +68,8 @@ class World:
     gravity: _Array
     threads: int
     stop_on_fault: bool
+    integrator: str  # "auto", "step" or "accurate"
+    integrator_tolerance: float
     @property
     def body_count(self) -> int: ...
     @property
@@ -88,6 +90,8 @@ class World:
     def faults(self) -> list[str]: ...
     @property
     def solver_report(self) -> dict[str, Union[int, float, bool]]: ...
+    @property
+    def integrator_report(self) -> dict[str, Union[int, float]]: ...
     # Body state, bodies x 3 (orientations bodies x 4, w x y z); assigning writes the world.
     positions: _Array
     orientations: _Array

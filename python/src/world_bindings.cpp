@@ -72,6 +72,14 @@ void checkPositive(double value, const char* what) {
     throw py::value_error(fmt::format("{}: must be a finite number > 0, got {}", what, value));
 }
 
+IntegratorType integratorType(const std::string& name) {
+  for (const IntegratorType t :
+       {IntegratorType::Auto, IntegratorType::Step, IntegratorType::Accurate})
+    if (name == integratorTypeName(t)) return t;
+  throw py::value_error(fmt::format(
+      "integrator: unknown integrator '{}' (expected \"auto\", \"step\" or \"accurate\")", name));
+}
+
 }  // namespace
 
 void bindWorld(py::module_& m) {
@@ -193,6 +201,42 @@ void bindWorld(py::module_& m) {
       },
       "The last step's solve: rows, iterations, residual (largest complementarity violation), "
       "redundant_rows, converged.");
+
+  c.def_property(
+      "integrator",
+      [](PyWorld& self) {
+        return std::string(integratorTypeName(self.world().settings().integrator.type));
+      },
+      [](PyWorld& self, const std::string& name) {
+        self.world().settings().integrator.type = integratorType(name);
+      },
+      "The time integrator (docs/integrators.md): \"auto\" (the default), \"step\" or "
+      "\"accurate\".");
+  c.def_property(
+      "integrator_tolerance",
+      [](PyWorld& self) { return self.world().settings().integrator.tolerance; },
+      [](PyWorld& self, double tolerance) {
+        if (!(tolerance >= 1e-14 && tolerance <= 1e-2))
+          throw py::value_error(fmt::format(
+              "integrator_tolerance: must be between 1e-14 and 1e-2, got {}", tolerance));
+        self.world().settings().integrator.tolerance = tolerance;
+      },
+      "The accurate integrator's local error bound per step (relative to the larger of 1 and "
+      "each value's size).");
+  c.def_property_readonly(
+      "integrator_report",
+      [](PyWorld& self) {
+        const IntegratorReport& r = self.world().lastIntegratorReport();
+        py::dict d;
+        d["bodies"] = r.bodies;
+        d["steps"] = r.steps;
+        d["rejected"] = r.rejected;
+        d["error"] = r.error;
+        return d;
+      },
+      "What the accurate integrator did over the last step: bodies it moved (the others took the "
+      "step), its accepted steps, the steps it refused, the largest joint error it projected "
+      "away.");
 
   c.def(
       "save_state", [](PyWorld& self) { return stateBytes(self.world().saveState()); },

@@ -169,8 +169,22 @@ def test_settings_between_steps(examples):
     assert world.time == pytest.approx(5e-3, abs=1e-15)
     world.threads = 2
     assert world.threads == 2
+    # The pendulum's one island of joints alone: the accurate integrator moves it ("auto").
+    assert world.integrator == "auto"
+    assert world.integrator_report["bodies"] == 1 and world.integrator_report["steps"] >= 1
+    assert world.max_joint_error < 1e-9
+    # The step solves its rows.
+    world.integrator = "step"
+    world.step(1)
     r = world.solver_report
     assert r["converged"] and r["rows"] >= 5
+    assert world.integrator_report["bodies"] == 0
+    with pytest.raises(ValueError, match="unknown integrator 'euler'"):
+        world.integrator = "euler"
+    world.integrator_tolerance = 1e-8
+    assert world.integrator_tolerance == 1e-8
+    with pytest.raises(ValueError, match="between 1e-14 and 1e-2"):
+        world.integrator_tolerance = 0.5
     assert world.warnings == []
 
 

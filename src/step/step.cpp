@@ -112,6 +112,19 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
   return island_awake;
 }
 
+/// A velocity set between steps (World, a drive of the user's) is the body's velocity at the
+/// time of its position: it is not behind, whatever moved the body before.
+void forgetSetVelocities(const Scene& scene, State& state) {
+  if (state.left_velocities.size() != scene.bodies.size() ||
+      state.behind.size() != scene.bodies.size())
+    return;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const StartVelocity& left = state.left_velocities[i];
+    if (scene.bodies[i].linearVelocity() != left.v || scene.bodies[i].angularVelocity() != left.w)
+      state.behind[i] = 0;
+  }
+}
+
 /// After the accurate stage: the awake bodies the step moves this pass are behind (VelocityLag),
 /// those the accurate integrator moves are not.
 void markBehind(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake) {
@@ -467,6 +480,7 @@ void sleep(const Scene& scene, State& state, double h) {
 SolverReport pass(const Scene& scene, State& state, double h) {
   if (scene.settings.solver.type == SolverType::Soft) return softStep(scene, state, h);
   wakeDisturbed(scene, state);
+  forgetSetVelocities(scene, state);
   keepStartVelocities(scene.bodies, state.start_velocities);
   integrateVelocities(scene, state, h);
   collide(scene, state, h, scene.settings.contact);
@@ -479,12 +493,14 @@ SolverReport pass(const Scene& scene, State& state, double h) {
   stabilize(scene, state, scene.time + h);
   trackJoints(scene);
   sleep(scene, state, h);
+  keepStartVelocities(scene.bodies, state.left_velocities);
   return report;
 }
 
 SolverReport softStep(const Scene& scene, State& state, double dt) {
   const int n = std::max(1, scene.settings.solver.substeps);
   wakeDisturbed(scene, state);
+  forgetSetVelocities(scene, state);
   // Soft contacts need no slop: the spring holds a resting contact still, at its whole depth.
   ContactSettings contacts = scene.settings.contact;
   contacts.slop = 0.0;
@@ -504,6 +520,7 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   stabilize(scene, state, scene.time + dt);
   trackJoints(scene);
   sleep(scene, state, dt);
+  keepStartVelocities(scene.bodies, state.left_velocities);
   return report;
 }
 
