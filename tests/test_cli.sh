@@ -83,7 +83,7 @@ case "$case_name" in
         fail "unexpected summary for $scene"
     done
     expect 0 "$linx" check good.json
-    [ "$(cat out.txt)" = "good.json: ok: 1 body, 1 joint, timestep 0.001 s, duration 0.01 s (10 steps), solver auto" ] ||
+    [ "$(cat out.txt)" = "good.json: ok: 1 body, 1 joint, timestep 0.001 s, duration 0.01 s (10 steps), solver auto, integrator auto (tolerance 1e-10)" ] ||
       fail "unexpected summary"
     ;;
 
@@ -129,7 +129,7 @@ case "$case_name" in
     ;;
 
   run_breaks)
-    # The ball of breaking_bridge.json lands at 0.207 s and breaks five of the welds: each is
+    # The ball of breaking_bridge.json lands at 0.207 s and breaks four of the welds: each is
     # reported as it breaks and listed in breaks.csv. A run of a scene without breakable joints in
     # the same folder removes that breaks.csv.
     expect 0 "$linx" run "$examples/breaking_bridge.json" --out out --duration 0.3 --every 100
@@ -137,8 +137,8 @@ case "$case_name" in
       fail "no report of weld4 breaking"
     grep -q "^wrote 5 files to out " out.txt || fail "summary: expected 5 files"
     [ "$(head -n 1 out/breaks.csv)" = "time,step,joint,fx,fy,fz,tx,ty,tz" ] || fail "breaks.csv header"
-    [ "$(awk -F, 'NR > 1 && $2 == 207 {n++} END {print n}' out/breaks.csv)" = 5 ] ||
-      fail "breaks.csv: expected five welds broken in step 207"
+    [ "$(awk -F, 'NR > 1 && $2 == 207 {printf "%s ", $3}' out/breaks.csv)" = "weld0 weld4 weld7 weld8 " ] ||
+      fail "breaks.csv: expected welds 0, 4, 7 and 8 broken in step 207"
     expect 0 "$linx" run "$examples/pendulum.json" --out out --duration 0.01
     [ -e out/breaks.csv ] && fail "breaks.csv of the earlier run left behind"
     ;;
@@ -470,12 +470,13 @@ EOF
     ;;
 
   soak)
-    # A short soak of a contact scene and a jointed one: memory reported, flat after warm-up.
-    expect 0 "$linx" soak "$examples/box_stack.json" "$examples/hinge_chain.json" --steps 20000 \
+    # A short soak of a contact scene and a jointed one: memory reported, flat after warm-up (the
+    # chain folds onto itself in new ways, with more contacts at once, for its first 10 s).
+    expect 0 "$linx" soak "$examples/box_stack.json" "$examples/hinge_chain.json" --steps 30000 \
       --report-every 5000
-    [ "$(grep -c "after warm-up (step 2000), at most .* (flat)$" out.txt)" -eq 2 ] ||
+    [ "$(grep -c "after warm-up (step 15000), at most .* (flat)$" out.txt)" -eq 2 ] ||
       fail "soak: expected two flat heaps"
-    [ "$(grep -c "^     20000 " out.txt)" -eq 2 ] || fail "soak: no report at the last step"
+    [ "$(grep -c "^     30000 " out.txt)" -eq 2 ] || fail "soak: no report at the last step"
     expect 2 "$linx" soak "$examples/pyramid.json" --steps 5
     expect_error_line "linx: --steps: must be at least 10, got 5"
     expect 2 "$linx" soak missing.json

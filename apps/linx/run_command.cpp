@@ -272,11 +272,11 @@ int check(const RunOptions& options) {
   std::string extra;
   if (!p.scene.springs.empty()) extra += ", " + count(p.scene.springs.size(), "spring", "springs");
   if (!p.scene.loads.empty()) extra += ", " + count(p.scene.loads.size(), "load", "loads");
-  // The integrator when it is not the step.
+  // The integrator, with its tolerance unless it is the step (which has none).
   const IntegratorSettings& i = p.scene.settings.integrator;
   const std::string integrator =
       i.type == IntegratorType::Step
-          ? std::string()
+          ? std::string(", integrator step")
           : fmt::format(", integrator {} (tolerance {})", integratorTypeName(i.type), i.tolerance);
   fmt::print("{}: ok: {}, {}{}, timestep {} s, duration {} s ({} steps), solver {}{}\n",
              options.scene, count(p.scene.bodies.size(), "body", "bodies"),
