@@ -27,6 +27,14 @@ inline double runLength(double full, double sanitized) {
   return kSanitized ? sanitized : full;
 }
 
+/// Distance from rest under a constant acceleration `a` after n steps of h: symplectic Euler's,
+/// a h^2 n (n + 1) / 2, with the step; the motion's own, a (n h)^2 / 2, with the accurate
+/// integrator (which "auto", the default, gives an island of joints alone).
+inline double distanceFromRest(IntegratorType type, double a, double h, int n) {
+  const double t = n * h;
+  return type == IntegratorType::Step ? 0.5 * a * h * t * (n + 1.0) : 0.5 * a * t * t;
+}
+
 /// Complete elliptic integral of the first kind K(k), k the modulus, by the arithmetic-geometric
 /// mean: K(k) = pi / (2 AGM(1, sqrt(1 - k^2))).
 inline double ellipticK(double k) {

@@ -515,33 +515,38 @@ TEST(Generic, LimitOnATranslationStopsIt) {
 }
 
 TEST(Planar, PuckSlidesDownItsTiltedPlaneAtGSinAlpha) {
-  // The plane's y rises at alpha = 0.3 rad: y'' = -g sin(alpha), x and the angle stay at zero.
-  World world(settings(true));
-  const double alpha = 0.3;
-  BodyDef d = test::boxBody("puck", 1.0, Vec3(0.2, 0.2, 0.05), Vec3(0, 0, 1));
-  // Lying on the plane (its thin side along the normal, a principal axis: a spin about it stays),
-  // spinning on it.
-  d.orientation = Quat(Eigen::AngleAxisd(alpha, Vec3::UnitX()));
-  d.angular_velocity = Vec3(0, -std::sin(alpha), std::cos(alpha)) * 0.7;
-  const BodyId puck = world.createBody(d);
-  const JointId j =
-      world.createJoint("planar", JointDef{.name = "table",
-                                           .body1 = puck,
-                                           .anchor = d.position,
-                                           .axis = Vec3::UnitX(),
-                                           .axis2 = Vec3(0, std::cos(alpha), std::sin(alpha))});
-  const double h = world.settings().timestep, a = -kG * std::sin(alpha);
-  double worst = 0.0;
-  for (int n = 1; n <= 1000; ++n) {
-    world.step();
-    const JointCoordinates q = world.jointCoordinates(j);
-    const Vec3 exact(0.0, 0.5 * h * h * a * n * (n + 1.0), 0.7 * world.time());
-    worst = std::max(worst, (q - exact).cwiseAbs().maxCoeff());
+  // The plane's y rises at alpha = 0.3 rad: y'' = -g sin(alpha), x and the angle stay at zero;
+  // symplectic Euler's y_n with the step, the motion's own with "auto".
+  for (const IntegratorType integrator : {IntegratorType::Step, IntegratorType::Auto}) {
+    WorldSettings s = settings(true);
+    s.integrator.type = integrator;
+    World world(s);
+    const double alpha = 0.3;
+    BodyDef d = test::boxBody("puck", 1.0, Vec3(0.2, 0.2, 0.05), Vec3(0, 0, 1));
+    // Lying on the plane (its thin side along the normal, a principal axis: a spin about it
+    // stays), spinning on it.
+    d.orientation = Quat(Eigen::AngleAxisd(alpha, Vec3::UnitX()));
+    d.angular_velocity = Vec3(0, -std::sin(alpha), std::cos(alpha)) * 0.7;
+    const BodyId puck = world.createBody(d);
+    const JointId j =
+        world.createJoint("planar", JointDef{.name = "table",
+                                             .body1 = puck,
+                                             .anchor = d.position,
+                                             .axis = Vec3::UnitX(),
+                                             .axis2 = Vec3(0, std::cos(alpha), std::sin(alpha))});
+    const double h = world.settings().timestep, a = -kG * std::sin(alpha);
+    double worst = 0.0;
+    for (int n = 1; n <= 1000; ++n) {
+      world.step();
+      const JointCoordinates q = world.jointCoordinates(j);
+      const Vec3 exact(0.0, test::distanceFromRest(integrator, a, h, n), 0.7 * world.time());
+      worst = std::max(worst, (q - exact).cwiseAbs().maxCoeff());
+    }
+    std::printf("%s: x, y, angle within %.2e of 0, -g sin(a) t^2 / 2, w t; joint error %.2e\n",
+                std::string(integratorTypeName(integrator)).c_str(), worst, world.maxJointError());
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_LT(world.maxJointError(), 1e-9);
   }
-  std::printf("x, y, angle within %.2e of 0, -g sin(a) t^2 / 2, w t; joint error %.2e\n", worst,
-              world.maxJointError());
-  EXPECT_LT(worst, 1e-9);
-  EXPECT_LT(world.maxJointError(), 1e-9);
 }
 
 TEST(Gear, RowIsTheRateOfItsConstraintAnywhere) {
@@ -621,48 +626,55 @@ TEST(RackAndPinion, RowIsTheRateOfItsConstraintAnywhere) {
 TEST(RackAndPinion, FallingRackSpinsThePinionAtTheEffectiveMass) {
   // A 2 kg rack on a vertical slider meshes with a pinion of pitch radius 0.1 m and inertia
   // 0.02 kg m^2 on a horizontal axle: the rack falls at a = g m / (m + I / r^2) = g / 2, the pinion
-  // turning s / r. Symplectic Euler from rest: s_n = -a h^2 n (n + 1) / 2.
-  World world(settings(true));
-  constexpr double m = 2.0, inertia = 0.02, r = 0.1, h = 1e-3;
-  BodyDef pinion_def;
-  pinion_def.name = "pinion";
-  pinion_def.mass = 1.0;
-  pinion_def.inertia = Vec3(0.01, inertia, 0.01).asDiagonal();
-  const BodyId pinion = world.createBody(pinion_def);
-  const BodyId rack =
-      world.createBody(test::boxBody("rack", m, Vec3(0.02, 0.02, 0.5), Vec3(r, 0, 0)));
-  world.createJoint(
-      "hinge",
-      JointDef{.name = "axle", .body1 = pinion, .anchor = Vec3::Zero(), .axis = Vec3::UnitY()});
-  world.createJoint("slider", JointDef{.name = "guide", .body1 = rack, .axis = Vec3::UnitZ()});
-  // At x = r, a turn about +y moves the pitch point by w x r = (0, w, 0) x (r, 0, 0) = -w r z:
-  // the rack travels along -z by r per radian.
-  const JointId mesh = world.createJoint("rack_and_pinion", JointDef{.name = "mesh",
-                                                                     .body1 = pinion,
-                                                                     .body2 = rack,
-                                                                     .axis = Vec3::UnitY(),
-                                                                     .axis2 = -Vec3::UnitZ(),
-                                                                     .ratio = r});
-  const double a = 9.81 * m / (m + inertia / (r * r));
-  double worst = 0.0;
-  for (int n = 1; n <= 1000; ++n) {
-    world.step();
-    const double s = -0.5 * a * h * h * n * (n + 1.0);
-    worst = std::max(worst, std::abs(world.body(rack).position().z() - s));
+  // turning s / r: from rest, s_n = -a h^2 n (n + 1) / 2 by symplectic Euler (the step), and
+  // s = -a t^2 / 2 with "auto" (the accurate integrator).
+  for (const IntegratorType integrator : {IntegratorType::Step, IntegratorType::Auto}) {
+    WorldSettings settings_now = settings(true);
+    settings_now.integrator.type = integrator;
+    World world(settings_now);
+    constexpr double m = 2.0, inertia = 0.02, r = 0.1, h = 1e-3;
+    BodyDef pinion_def;
+    pinion_def.name = "pinion";
+    pinion_def.mass = 1.0;
+    pinion_def.inertia = Vec3(0.01, inertia, 0.01).asDiagonal();
+    const BodyId pinion = world.createBody(pinion_def);
+    const BodyId rack =
+        world.createBody(test::boxBody("rack", m, Vec3(0.02, 0.02, 0.5), Vec3(r, 0, 0)));
+    world.createJoint(
+        "hinge",
+        JointDef{.name = "axle", .body1 = pinion, .anchor = Vec3::Zero(), .axis = Vec3::UnitY()});
+    world.createJoint("slider", JointDef{.name = "guide", .body1 = rack, .axis = Vec3::UnitZ()});
+    // At x = r, a turn about +y moves the pitch point by w x r = (0, w, 0) x (r, 0, 0) = -w r z:
+    // the rack travels along -z by r per radian.
+    const JointId mesh = world.createJoint("rack_and_pinion", JointDef{.name = "mesh",
+                                                                       .body1 = pinion,
+                                                                       .body2 = rack,
+                                                                       .axis = Vec3::UnitY(),
+                                                                       .axis2 = -Vec3::UnitZ(),
+                                                                       .ratio = r});
+    const double a = 9.81 * m / (m + inertia / (r * r));
+    double worst = 0.0;
+    for (int n = 1; n <= 1000; ++n) {
+      world.step();
+      const double s = -test::distanceFromRest(integrator, a, h, n);
+      worst = std::max(worst, std::abs(world.body(rack).position().z() - s));
+    }
+    const JointCoordinates q = world.jointCoordinates(mesh);
+    std::printf(
+        "%s: rack fell %.9f m (closed form %.9f), worst %.2e m; pinion %.9f rad, travel %.9f m\n",
+        std::string(integratorTypeName(integrator)).c_str(), -world.body(rack).position().z(),
+        test::distanceFromRest(integrator, a, h, 1000), worst, q[0], q[1]);
+    EXPECT_LT(worst, 1e-9);
+    EXPECT_NEAR(q[1], r * q[0], 1e-12);
+    EXPECT_NEAR(q[1], -world.body(rack).position().z(), 1e-12);
+    EXPECT_GT(q[0], 2.0 * M_PI);  // past a turn: counted
+    EXPECT_THROW(world.createJoint("rack_and_pinion", JointDef{.name = "x",
+                                                               .body1 = pinion,
+                                                               .axis = Vec3::UnitY(),
+                                                               .axis2 = Vec3::UnitZ(),
+                                                               .ratio = r}),
+                 std::invalid_argument);
   }
-  const JointCoordinates q = world.jointCoordinates(mesh);
-  std::printf("rack fell %.9f m (closed form %.9f), worst %.2e m; pinion %.9f rad, travel %.9f m\n",
-              -world.body(rack).position().z(), 0.5 * a * h * h * 1000 * 1001, worst, q[0], q[1]);
-  EXPECT_LT(worst, 1e-9);
-  EXPECT_NEAR(q[1], r * q[0], 1e-12);
-  EXPECT_NEAR(q[1], -world.body(rack).position().z(), 1e-12);
-  EXPECT_GT(q[0], 2.0 * M_PI);  // past a turn: counted
-  EXPECT_THROW(world.createJoint("rack_and_pinion", JointDef{.name = "x",
-                                                             .body1 = pinion,
-                                                             .axis = Vec3::UnitY(),
-                                                             .axis2 = Vec3::UnitZ(),
-                                                             .ratio = r}),
-               std::invalid_argument);
 }
 
 TEST(Locked, ALockedHingeAngleHoldsLikeAWeld) {

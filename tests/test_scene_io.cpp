@@ -634,7 +634,12 @@ TEST(SceneIo, IntegratorReadsAsAStringOrAnObject) {
   const linx::IntegratorSettings s = read(R"({"type": "accurate", "tolerance": 1e-8})");
   EXPECT_EQ(s.type, linx::IntegratorType::Accurate);
   EXPECT_EQ(s.tolerance, 1e-8);
-  EXPECT_EQ(read(R"({"tolerance": 1e-8})").type, linx::IntegratorType::Step);
+  // The type defaults to "auto", in an object or without the field.
+  EXPECT_EQ(read(R"({"tolerance": 1e-8})").type, linx::IntegratorType::Auto);
+  EXPECT_EQ(
+      linx::parseScene(R"({"bodies": [{"name": "b", "mass": 1, "inertia": [1, 1, 1]}]})", "t.json")
+          .settings.integrator.type,
+      linx::IntegratorType::Auto);
 }
 
 TEST(SceneError, Solver) {

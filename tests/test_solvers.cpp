@@ -191,7 +191,9 @@ TEST(Solvers, RedundantRowCountDoesNotDependOnMassScale) {
   // count once compared an absolute pivot with a relative threshold and missed them for heavy
   // bodies.
   for (const double mass : {1e-3, 1.0, 1e3, 1e5}) {
-    World w;
+    WorldSettings s;
+    s.integrator.type = IntegratorType::Step;  // the exact solver's count (not the accurate's)
+    World w(s);
     BodyDef d = test::boxBody("b", mass, Vec3(0.3, 0.2, 0.1), Vec3(0.1, 0.2, 0.3));
     const BodyId b = w.createBody(d);
     w.createJoint("fixed", JointDef{.name = "weld1", .body1 = b});

@@ -186,7 +186,19 @@ void AccurateIntegrator::take() {
   }
 }
 
-bool AccurateIntegrator::catchUp(const VelocityLag& lag, double time) {
+void AccurateIntegrator::projectStart(std::span<const std::unique_ptr<Joint>> joints,
+                                      std::span<Body> bodies, const SolverSettings& settings,
+                                      std::span<const std::uint8_t> accurate, const Handover& lag,
+                                      double time, int threads) {
+  if (lag.unprojected.empty()) return;
+  bool any = false;
+  for (const int i : ids_) any = any || lag.unprojected[static_cast<std::size_t>(i)] != 0;
+  if (any)
+    projection_.project(joints, bodies, settings, accurate, time, 10, settings.projection_tolerance,
+                        threads);
+}
+
+bool AccurateIntegrator::catchUp(const Handover& lag, double time) {
   if (lag.behind.empty()) return false;
   bool any = false;
   for (const int i : ids_) any = any || lag.behind[static_cast<std::size_t>(i)] != 0;
@@ -273,13 +285,14 @@ void AccurateIntegrator::putImpulses(std::span<Row> rows, std::span<double> lamb
 IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joint>> joints,
                                              std::span<Body> bodies, const WorldSettings& settings,
                                              std::span<const std::uint8_t> accurate,
-                                             const VelocityLag& lag, double time, double h,
+                                             const Handover& lag, double time, double h,
                                              int threads, std::span<Row> rows,
                                              std::span<double> lambda) {
   begin(joints, bodies, settings, accurate, threads);
   IntegratorReport report;
   report.bodies = static_cast<int>(ids_.size());
   if (ids_.empty()) return report;
+  projectStart(joints, bodies, settings.solver, accurate, lag, time, threads);
   take();
   catchUp(lag, time);
   const SolverSettings& solver = settings.solver;
@@ -331,13 +344,14 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
 IntegratorReport AccurateIntegrator::tryOneStep(
     std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
     const WorldSettings& settings, const Islands& islands, std::span<const double> limits,
-    std::vector<std::uint8_t>& accurate, const VelocityLag& lag, double time, double h, int threads,
+    std::vector<std::uint8_t>& accurate, const Handover& lag, double time, double h, int threads,
     std::span<Row> rows, std::span<double> lambda) {
   begin(joints, bodies, settings, accurate, threads);
   IntegratorReport report;
   lag_v_.assign(bodies.size(), Vec3::Zero());
   lag_w_.assign(bodies.size(), Vec3::Zero());
   if (ids_.empty()) return report;
+  projectStart(joints, bodies, settings.solver, accurate, lag, time, threads);
   take();
   catchUp(lag, time);
   rates(y0_, time, k_[0], stage_rows_[0]);

@@ -33,15 +33,25 @@ class Archive;
 
 namespace linx::step {
 
-/// Which bodies' velocities the step left behind the time of their positions, and by how much.
+/// What the bodies bring to the accurate integrator from elsewhere: the step, the user, their
+/// initial state.
+///
 /// The step updates a velocity before the positions move by it (symplectic Euler): its velocity
 /// is, to second order, the one half a (sub)step earlier. A body that comes from the step to the
-/// accurate integrator catches up by that much of its acceleration, and one that goes from it to
-/// the step falls back by it (velocityLag): without it an oscillator jumps in amplitude by up to
-/// omega h at each switch.
-struct VelocityLag {
+/// accurate integrator catches up by that much of its acceleration (`behind`, `time`), and one that
+/// goes from it to the step falls back by it (velocityLag): without it an oscillator jumps in
+/// amplitude by up to omega h at each switch.
+///
+/// A state the accurate integrator did not leave (`unprojected`) may be off the joints: the step
+/// holds them to its solver's tolerance and error reduction, a pose or a velocity given between
+/// steps or at creation not at all. Its index-1 equations keep a velocity's violation J u for the
+/// whole step, and the projection after it would take the position's away only then, so such a
+/// state is projected onto the manifold first (consistent initial values).
+struct Handover {
   std::span<const std::uint8_t> behind;  ///< one flag per body: its velocity is the step's
   double time = 0.0;                     ///< (s) half the step's (sub)step
+  /// One flag per body: its state is not one the accurate integrator left. Empty: no body's is.
+  std::span<const std::uint8_t> unprojected;
 };
 
 /// Whether one of row r's bodies is flagged in `flags` (one per body).
@@ -68,7 +78,7 @@ class AccurateIntegrator {
   /// Throws std::domain_error when the state stops being finite or the step size collapses.
   IntegratorReport advance(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
                            const WorldSettings& settings, std::span<const std::uint8_t> accurate,
-                           const VelocityLag& lag, double time, double h, int threads,
+                           const Handover& lag, double time, double h, int threads,
                            std::span<Row> rows, std::span<double> lambda);
 
   /// Integrator "auto": one step of length h for each flagged island, from the bodies' state at
@@ -79,9 +89,8 @@ class AccurateIntegrator {
   IntegratorReport tryOneStep(std::span<const std::unique_ptr<Joint>> joints,
                               std::span<Body> bodies, const WorldSettings& settings,
                               const Islands& islands, std::span<const double> limits,
-                              std::vector<std::uint8_t>& accurate, const VelocityLag& lag,
-                              double time, double h, int threads, std::span<Row> rows,
-                              std::span<double> lambda);
+                              std::vector<std::uint8_t>& accurate, const Handover& lag, double time,
+                              double h, int threads, std::span<Row> rows, std::span<double> lambda);
   /// After tryOneStep, for a body it gave back to the step whose velocity was not behind: the lag
   /// the step's velocity should have, lag.time times its acceleration (linear, angular).
   std::pair<Vec3, Vec3> velocityLag(std::size_t body) const { return {lag_v_[body], lag_w_[body]}; }
@@ -109,11 +118,16 @@ class AccurateIntegrator {
   /// Lends the frame's world to the steps below and sizes the buffers.
   void begin(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
              const WorldSettings& settings, std::span<const std::uint8_t> accurate, int threads);
+  /// Projects the flagged bodies onto the joints' manifold at `time` when one of them comes with a
+  /// state `lag` says the accurate integrator did not leave.
+  void projectStart(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
+                    const SolverSettings& settings, std::span<const std::uint8_t> accurate,
+                    const Handover& lag, double time, int threads);
   /// y0 from the bodies; throws std::domain_error when it is not finite.
   void take();
   /// The bodies `lag` says are behind catch up: v += lag.time dv/dt at y0. Returns whether any
   /// did (k_[0] then holds the rates before the catch-up).
-  bool catchUp(const VelocityLag& lag, double time);
+  bool catchUp(const Handover& lag, double time);
   /// One Runge-Kutta step of length dt from y0 (k_[0] holding its rates) at `time`: the stages,
   /// the fifth-order solution in y1, and the local error's norm against the tolerance.
   double attempt(double time, double dt);

@@ -9,8 +9,8 @@ namespace linx::step {
 void State::persist(state::Archive& a) {
   a.fields(joint_warm, joint_loads, contact, islands, sleep, stabilization, geometric_stiffness,
            last_joint_impulses, accurate, choice, behind);
-  // The velocities restored are those the saved pass left: none was set since.
-  if (a.loading()) left_velocities.clear();
+  // The state restored is the one the saved pass left: none was set since.
+  if (a.loading()) left.clear();
 }
 
 }  // namespace linx::step

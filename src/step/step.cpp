@@ -112,20 +112,40 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
   return island_awake;
 }
 
-/// A velocity set between steps (World, a drive of the user's) is the body's velocity at the
-/// time of its position: it is not behind, whatever moved the body before.
-void forgetSetVelocities(const Scene& scene, State& state) {
-  if (state.left_velocities.size() != scene.bodies.size() ||
-      state.behind.size() != scene.bodies.size())
-    return;
-  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
-    const StartVelocity& left = state.left_velocities[i];
-    if (scene.bodies[i].linearVelocity() != left.v || scene.bodies[i].angularVelocity() != left.w)
-      state.behind[i] = 0;
+/// A pose or velocity set between steps (World, the user's code) is the body's at the time of its
+/// position: it is not behind, whatever moved the body before, and may be off the joints. A body
+/// whose state the accurate integrator did not leave (behind, or without a pass yet) may be too.
+void noteSetStates(const Scene& scene, State& state) {
+  const std::size_t n = scene.bodies.size();
+  const bool known = state.behind.size() == n;
+  state.unprojected.assign(n, known ? 0 : 1);
+  if (!known) return;
+  const bool compare = state.left.size() == n;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Body& b = scene.bodies[i];
+    if (compare) {
+      const BodyState& left = state.left[i];
+      if (b.linearVelocity() != left.v || b.angularVelocity() != left.w ||
+          b.position() != left.pose.position ||
+          b.orientation().coeffs() != left.pose.orientation.coeffs()) {
+        state.behind[i] = 0;
+        state.unprojected[i] = 1;
+      }
+    }
+    if (state.behind[i]) state.unprojected[i] = 1;
   }
 }
 
-/// After the accurate stage: the awake bodies the step moves this pass are behind (VelocityLag),
+/// Keeps each body's state as the pass leaves it (noteSetStates).
+void keepLeftStates(const Scene& scene, State& state) {
+  state.left.resize(scene.bodies.size());
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& b = scene.bodies[i];
+    state.left[i] = BodyState{b.pose(), b.linearVelocity(), b.angularVelocity()};
+  }
+}
+
+/// After the accurate stage: the awake bodies the step moves this pass are behind (Handover),
 /// those the accurate integrator moves are not.
 void markBehind(const Scene& scene, State& state, std::span<const std::uint8_t> island_awake) {
   state.behind.resize(scene.bodies.size(), 0);
@@ -141,7 +161,7 @@ void markBehind(const Scene& scene, State& state, std::span<const std::uint8_t> 
 /// the bodies hold, their state before in `before_accurate`); those that refuse are cleared from
 /// `accurate_bodies` and take the solve from where the velocities stage left them, behind by the
 /// step's lag if the accurate integrator had moved them.
-void tryOneAccurateStep(const Scene& scene, State& state, const VelocityLag& lag, double h) {
+void tryOneAccurateStep(const Scene& scene, State& state, const Handover& lag, double h) {
   std::vector<std::uint8_t>& accurate = state.accurate_bodies;
   std::vector<std::uint8_t>& tried = state.tried_accurate;
   tried = accurate;
@@ -186,7 +206,7 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
     markBehind(scene, state, island_awake);
     return island_awake;
   }
-  const VelocityLag velocity_lag{state.behind, lag};
+  const Handover handover{state.behind, lag, state.unprojected};
   std::vector<BodyState>& before = state.before_accurate;
   before.clear();
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
@@ -197,10 +217,10 @@ std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& sta
     b.setAngularVelocity(state.start_velocities[i].w);
   }
   if (type == IntegratorType::Auto) {
-    tryOneAccurateStep(scene, state, velocity_lag, h);
+    tryOneAccurateStep(scene, state, handover, h);
   } else {
     state.accurate_report =
-        state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, velocity_lag,
+        state.accurate.advance(scene.joints, scene.bodies, scene.settings, accurate, handover,
                                scene.time, h, scene.threads, state.rows.rows, state.rows.lambda);
   }
   markBehind(scene, state, island_awake);
@@ -480,7 +500,7 @@ void sleep(const Scene& scene, State& state, double h) {
 SolverReport pass(const Scene& scene, State& state, double h) {
   if (scene.settings.solver.type == SolverType::Soft) return softStep(scene, state, h);
   wakeDisturbed(scene, state);
-  forgetSetVelocities(scene, state);
+  noteSetStates(scene, state);
   keepStartVelocities(scene.bodies, state.start_velocities);
   integrateVelocities(scene, state, h);
   collide(scene, state, h, scene.settings.contact);
@@ -493,14 +513,14 @@ SolverReport pass(const Scene& scene, State& state, double h) {
   stabilize(scene, state, scene.time + h);
   trackJoints(scene);
   sleep(scene, state, h);
-  keepStartVelocities(scene.bodies, state.left_velocities);
+  keepLeftStates(scene, state);
   return report;
 }
 
 SolverReport softStep(const Scene& scene, State& state, double dt) {
   const int n = std::max(1, scene.settings.solver.substeps);
   wakeDisturbed(scene, state);
-  forgetSetVelocities(scene, state);
+  noteSetStates(scene, state);
   // Soft contacts need no slop: the spring holds a resting contact still, at its whole depth.
   ContactSettings contacts = scene.settings.contact;
   contacts.slop = 0.0;
@@ -520,7 +540,7 @@ SolverReport softStep(const Scene& scene, State& state, double dt) {
   stabilize(scene, state, scene.time + dt);
   trackJoints(scene);
   sleep(scene, state, dt);
-  keepStartVelocities(scene.bodies, state.left_velocities);
+  keepLeftStates(scene, state);
   return report;
 }
 

@@ -112,12 +112,13 @@ struct State {
   IntegratorChoice choice;                    ///< integrator "auto": which islands try `accurate`
   std::vector<std::uint8_t> accurate_bodies;  // moved by `accurate` this pass (one per body)
   std::vector<std::uint8_t> tried_accurate;   // "auto": the bodies that tried it
-  std::vector<std::uint8_t> behind;  ///< per body: its velocity is the step's (VelocityLag)
-  std::vector<StartVelocity> left_velocities;  // each body's velocities as the last pass left them
-  std::vector<BodyState> before_accurate;      // their state before, in body order
-  std::vector<Row> accurate_rows;              // soft step: the joint rows `accurate` moved
-  std::vector<double> accurate_lambda;         // and their impulses
-  std::vector<std::uint8_t> island_stepped;    // awake islands the step solves
+  std::vector<std::uint8_t> behind;           ///< per body: its velocity is the step's (Handover)
+  std::vector<BodyState> left;                // each body's state as the last pass left it
+  std::vector<std::uint8_t> unprojected;     // per body: its state is not the accurate integrator's
+  std::vector<BodyState> before_accurate;    // their state before, in body order
+  std::vector<Row> accurate_rows;            // soft step: the joint rows `accurate` moved
+  std::vector<double> accurate_lambda;       // and their impulses
+  std::vector<std::uint8_t> island_stepped;  // awake islands the step solves
   IntegratorReport accurate_report;
   std::vector<int> neighbours;
 
