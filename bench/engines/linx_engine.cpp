@@ -138,29 +138,43 @@ bool hasContacts(const Scene& scene) {
 
 namespace {
 
+/// A linx row: the step's knobs (integrator "step", whatever the default), unless `integrator`
+/// says otherwise.
 Variant variant(std::string settings, const linx::SolverSettings& solver, bool reference,
-                int threads = 1) {
+                int threads = 1,
+                linx::IntegratorSettings integrator = {.type = linx::IntegratorType::Step}) {
   return Variant{"linx", std::move(settings),
-                 [solver, threads](const Scene& s) -> std::unique_ptr<Engine> {
-                   return std::make_unique<LinxEngine>(s, solver, threads);
+                 [solver, threads, integrator](const Scene& s) -> std::unique_ptr<Engine> {
+                   return std::make_unique<LinxEngine>(s, solver, threads, integrator);
                  },
                  reference, threads};
 }
 
-/// The reference row: linx's defaults, one thread.
+/// The reference row: linx's defaults, one thread. With contacts every island takes the step
+/// (the default integrator "auto" gives the accurate one islands of joints alone).
 Variant defaultRow(const Scene& scene) {
   const linx::SolverSettings defaults;
   if (hasContacts(scene)) {
     Variant v = variant("default: auto (PGS on friction islands, " +
                             std::to_string(defaults.iterations) + " it max)",
-                        defaults, true);
+                        defaults, true, 1, linx::IntegratorSettings{});
     v.knob = "default step: auto (PGS, " + std::to_string(defaults.iterations) + " sweeps max)";
     return v;
   }
-  Variant v = variant("default: auto (exact, post-stabilization " +
+  Variant v = variant("default: integrator auto, solver auto (exact, post-stabilization " +
                           std::to_string(defaults.post_stabilization) + " it)",
-                      defaults, true);
-  v.knob = "default step: auto (exact)";
+                      defaults, true, 1, linx::IntegratorSettings{});
+  v.knob = "default: integrator auto";
+  return v;
+}
+
+/// A mechanism's step at its default solver: what "auto" gives islands it cannot hold.
+Variant defaultStep() {
+  const linx::SolverSettings defaults;
+  Variant v = variant("integrator step, solver auto (exact, post-stabilization " +
+                          std::to_string(defaults.post_stabilization) + " it)",
+                      defaults, false);
+  v.knob = "integrator step, default solver";
   return v;
 }
 
@@ -200,9 +214,10 @@ std::vector<Variant> linxVariants(const Scene& scene) {
     }
     return out;
   }
-  // Mechanisms: the default (exact, then the joints' post-stabilization), without the
-  // post-stabilization (error reduction alone), with more of its iterations, and with substeps
-  // for stiff chains.
+  // Mechanisms: the step at the default solver (exact, then the joints' post-stabilization),
+  // without the post-stabilization (error reduction alone), with more of its iterations, and with
+  // substeps for stiff chains.
+  out.push_back(defaultStep());
   linx::SolverSettings erp_only = defaults;
   erp_only.post_stabilization = 0;
   out.push_back(variant("exact, ERP 0.2 only", erp_only, false));
@@ -219,17 +234,29 @@ std::vector<Variant> linxVariants(const Scene& scene) {
 // its default (1e-10) the reference row.
 std::vector<Variant> linxIntegrators(const Scene& scene) {
   std::vector<Variant> out;
-  Variant step = defaultRow(scene);
-  step.reference = false;
-  step.knob = "step (default)";
+  Variant step = defaultStep();
+  step.knob = "step";
   out.push_back(std::move(step));
+  Variant automatic = defaultRow(scene);
+  automatic.reference = false;
+  automatic.knob = "auto (default)";
+  out.push_back(std::move(automatic));
+  // "auto" at a looser tolerance: one accurate step a frame holds it on more frames.
+  for (double tolerance : {1e-8, 1e-6}) {
+    const linx::IntegratorSettings loose{.type = linx::IntegratorType::Auto,
+                                         .tolerance = tolerance};
+    const std::string label = fmt::format("auto, tolerance {:g}", tolerance);
+    Variant v = variant("integrator: " + label, linx::SolverSettings{}, false, 1, loose);
+    v.knob = label;
+    out.push_back(std::move(v));
+  }
   const linx::IntegratorSettings defaults{.type = linx::IntegratorType::Accurate};
   for (double tolerance : {1e-6, 1e-8, 1e-10, 1e-12}) {
     linx::IntegratorSettings accurate = defaults;
     accurate.tolerance = tolerance;
     const bool is_default = tolerance == defaults.tolerance;
     const std::string label =
-        fmt::format("accurate, tolerance {:g}{}", tolerance, is_default ? " (default)" : "");
+        fmt::format("accurate, tolerance {:g}{}", tolerance, is_default ? " (the default's)" : "");
     Variant v{"linx", "integrator: " + label,
               [accurate](const Scene& s) -> std::unique_ptr<Engine> {
                 return std::make_unique<LinxEngine>(s, linx::SolverSettings{}, 1, accurate);
