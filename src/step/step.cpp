@@ -117,7 +117,9 @@ std::span<const std::uint8_t> buildIslands(const Scene& scene, State& state, dou
 /// whose state the accurate integrator did not leave (behind, or without a pass yet) may be too.
 void noteSetStates(const Scene& scene, State& state) {
   const std::size_t n = scene.bodies.size();
+  // Before the first pass, or with bodies added since, every state is new (and none is behind).
   const bool known = state.behind.size() == n;
+  state.behind.resize(n, 0);
   state.unprojected.assign(n, known ? 0 : 1);
   if (!known) return;
   const bool compare = state.left.size() == n;
