@@ -629,9 +629,9 @@ TEST(RackAndPinion, FallingRackSpinsThePinionAtTheEffectiveMass) {
   // turning s / r: from rest, s_n = -a h^2 n (n + 1) / 2 by symplectic Euler (the step), and
   // s = -a t^2 / 2 with "auto" (the accurate integrator).
   for (const IntegratorType integrator : {IntegratorType::Step, IntegratorType::Auto}) {
-    WorldSettings settings_now = settings(true);
-    settings_now.integrator.type = integrator;
-    World world(settings_now);
+    WorldSettings s = settings(true);
+    s.integrator.type = integrator;
+    World world(s);
     constexpr double m = 2.0, inertia = 0.02, r = 0.1, h = 1e-3;
     BodyDef pinion_def;
     pinion_def.name = "pinion";
@@ -656,8 +656,8 @@ TEST(RackAndPinion, FallingRackSpinsThePinionAtTheEffectiveMass) {
     double worst = 0.0;
     for (int n = 1; n <= 1000; ++n) {
       world.step();
-      const double s = -test::distanceFromRest(integrator, a, h, n);
-      worst = std::max(worst, std::abs(world.body(rack).position().z() - s));
+      const double z = -test::distanceFromRest(integrator, a, h, n);
+      worst = std::max(worst, std::abs(world.body(rack).position().z() - z));
     }
     const JointCoordinates q = world.jointCoordinates(mesh);
     std::printf(
