@@ -205,4 +205,46 @@ TEST(WorldState, AStateOfAnotherWorldOrDamagedIsRefused) {
   EXPECT_EQ(snapshot(c), fresh);
 }
 
+// A state whose integrator parts hold values the step never writes (a wait above the longest, a
+// step size that is not a finite number) is refused: with "auto", the default, they are read on
+// the next step (a wait doubled past the int range was undefined behaviour).
+TEST(WorldState, IntegratorWaitsAndStepSizeOutOfRangeAreRefused) {
+  const linx::Scene pendulum = linx::loadModel(std::string(LINX_EXAMPLES_DIR) + "/pendulum.json");
+  ASSERT_EQ(pendulum.bodies.size(), 1u);
+  linx::World world = linx::buildWorld(pendulum);
+  world.step();
+  const linx::WorldState state = world.saveState();
+  // The state ends with the accurate integrator's step size (a double), then "auto"'s waits and
+  // back-offs (a count and an int32 each, one body), then the bodies behind (a count, a byte).
+  const std::size_t end = state.bytes.size(), backoff = end - 9 - 4, wait = backoff - 8 - 4,
+                    step_size = wait - 8 - 8;
+  const auto at = [&](std::size_t offset, auto value) {
+    std::memcpy(&value, state.bytes.data() + offset, sizeof value);
+    return value;
+  };
+  ASSERT_EQ(at(end - 9, std::uint64_t{}), 1u);
+  ASSERT_EQ(at(backoff - 8, std::uint64_t{}), 1u);
+  ASSERT_EQ(at(wait - 8, std::uint64_t{}), 1u);
+  ASSERT_EQ(at(wait, std::int32_t{}), 0);  // its one step a frame held: no wait
+  const std::vector<double> before = snapshot(world);
+  const auto refused = [&](std::size_t at, const auto& value, const char* what) {
+    linx::WorldState bad = state;
+    std::memcpy(bad.bytes.data() + at, &value, sizeof value);
+    try {
+      world.restoreState(bad);
+      ADD_FAILURE() << what << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(snapshot(world), before);
+  };
+  refused(backoff, std::int32_t{0x7fffffff}, "integrator waits out of range");
+  refused(wait, std::int32_t{-3}, "integrator waits out of range");
+  refused(step_size, std::nan(""), "step size not a finite number >= 0");
+  refused(step_size, -1.0, "step size not a finite number >= 0");
+  // The state itself goes back in and steps on.
+  world.restoreState(state);
+  world.step();
+}
+
 }  // namespace

@@ -87,6 +87,8 @@ int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
 
 void AccurateIntegrator::persist(state::Archive& archive) {
   archive(next_step_);
+  if (archive.loading() && !(next_step_ >= 0.0 && std::isfinite(next_step_)))
+    throw state::StateError("accurate integrator: step size not a finite number >= 0");
 }
 
 void AccurateIntegrator::put(std::span<const Motion> state, std::span<Body> bodies) const {

@@ -51,6 +51,12 @@ void IntegratorChoice::record(std::span<const std::uint8_t> tried,
 
 void IntegratorChoice::persist(state::Archive& archive) {
   archive.fields(wait_, backoff_);
+  if (!archive.loading()) return;
+  // The waits this class writes lie within [0, kLongestWait]; others are a damaged state.
+  const auto within = [](std::int32_t w) { return w >= 0 && w <= kLongestWait; };
+  if (!std::all_of(wait_.begin(), wait_.end(), within) ||
+      !std::all_of(backoff_.begin(), backoff_.end(), within))
+    throw state::StateError("integrator waits out of range");
 }
 
 }  // namespace linx::step
