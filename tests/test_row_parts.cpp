@@ -134,6 +134,44 @@ TEST(RowParts, ClosedFormCurvaturesMatchTheRowsDifferences) {
   EXPECT_EQ(compared, 20 * (5 + 3 + 6 + 1 + 5 + 4));
 }
 
+// The limits the accurate integrator holds as equalities (a hinge's angle and a slider's position,
+// both bounds, the upper's row the coordinate's negated; a rope at its length) have closed-form
+// curvatures too, checked the same way, each joint with both bounds at its coordinate.
+TEST(RowParts, LimitRowsClosedFormCurvaturesMatchTheRowsDifferences) {
+  std::mt19937 rng(11);
+  int compared = 0;
+  for (const char* type : {"hinge", "slider", "distance"}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const BodyState c1 = randomState(rng), c2 = randomState(rng);
+      JointDef def{.name = "j", .anchor = randomVec(rng, 1.0), .axis = randomVec(rng, 1.0)};
+      if (std::string(type) == "distance") {
+        def.anchor2 = c2.pose.position + randomVec(rng, 0.3);
+        def.rope = true;
+        def.length = 1e-3;  // taut: shorter than any distance the trials reach
+      }
+      const BodyState b1 = randomState(rng), b2 = randomState(rng);
+      if (def.rope == false) {  // both bounds at the coordinate there: both rows on their bound
+        const double x = makeJoint(type, def, c1, c2)->coordinates(b1, b2)[0];
+        def.coordinates[0].limits = JointLimits{.lower = x, .upper = x};
+      }
+      const std::unique_ptr<Joint> j = makeJoint(type, def, c1, c2);
+      std::vector<Row> rows(static_cast<std::size_t>(j->maxRows()));
+      rows.resize(static_cast<std::size_t>(j->fill(JointContext{b1, b2, 0.01, 0.2, 0.0}, rows)));
+      std::vector<double> closed(rows.size());
+      j->curvature(JointContext{b1, b2, 0.01, 0.2, 0.0}, rows, closed);
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        if (rows[k].kind != RowKind::Unilateral) continue;
+        ASSERT_TRUE(std::isfinite(closed[k])) << type << " row " << k;
+        const double numeric = rowsRateChange(*j, b1, b2, k);
+        EXPECT_NEAR(closed[k], numeric, 1e-7 * (1.0 + std::abs(numeric)))
+            << type << " trial " << trial << " row " << k;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 20 * (2 + 2 + 1));
+}
+
 // A bob L from a hinge at the origin, turning about z at w: its point rows' curvature is w^2 L
 // along the arm, so that J a = -(dJ/dt) u asks the bob for the centripetal acceleration -w^2 L;
 // the align rows' is zero (the axis does not turn).

@@ -214,10 +214,11 @@ TEST(WorldState, IntegratorWaitsAndStepSizeOutOfRangeAreRefused) {
   linx::World world = linx::buildWorld(pendulum);
   world.step();
   const linx::WorldState state = world.saveState();
-  // The state ends with the accurate integrator's step size (a double), then "auto"'s waits and
-  // back-offs (a count and an int32 each, one body), then the bodies behind (a count, a byte).
+  // The state ends with the accurate integrator's step size (a double) and its held limits (two
+  // counts, none held), then "auto"'s waits and back-offs (a count and an int32 each, one body),
+  // then the bodies behind (a count, a byte).
   const std::size_t end = state.bytes.size(), backoff = end - 9 - 4, wait = backoff - 8 - 4,
-                    step_size = wait - 8 - 8;
+                    held = wait - 8 - 16, step_size = held - 8;
   const auto at = [&](std::size_t offset, auto value) {
     std::memcpy(&value, state.bytes.data() + offset, sizeof value);
     return value;
@@ -226,6 +227,8 @@ TEST(WorldState, IntegratorWaitsAndStepSizeOutOfRangeAreRefused) {
   ASSERT_EQ(at(backoff - 8, std::uint64_t{}), 1u);
   ASSERT_EQ(at(wait - 8, std::uint64_t{}), 1u);
   ASSERT_EQ(at(wait, std::int32_t{}), 0);  // its one step a frame held: no wait
+  ASSERT_EQ(at(held, std::uint64_t{}), 0u);
+  ASSERT_EQ(at(held + 8, std::uint64_t{}), 0u);
   const std::vector<double> before = snapshot(world);
   const auto refused = [&](std::size_t at, const auto& value, const char* what) {
     linx::WorldState bad = state;

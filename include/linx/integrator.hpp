@@ -35,6 +35,9 @@ struct IntegratorReport {
   int steps = 0;       ///< its accepted Runge-Kutta steps
   int rejected = 0;    ///< steps it tried and refused (local error above the tolerance)
   double error = 0.0;  ///< the largest joint error it projected away (m or rad)
+  /// Limits it met (a plastic impact, then held) or left (their force fell to zero), in the
+  /// states it kept: each an event its steps ended on (docs/integrators.md, "Limits").
+  int events = 0;
 };
 
 std::string_view integratorTypeName(IntegratorType type);

@@ -232,11 +232,12 @@ void bindWorld(py::module_& m) {
         d["steps"] = r.steps;
         d["rejected"] = r.rejected;
         d["error"] = r.error;
+        d["events"] = r.events;
         return d;
       },
       "What the accurate integrator did over the last step: bodies it moved (the others took the "
       "step), its accepted steps, the steps it refused, the largest joint error it projected "
-      "away.");
+      "away, the limits it met or left (events).");
 
   c.def(
       "save_state", [](PyWorld& self) { return stateBytes(self.world().saveState()); },

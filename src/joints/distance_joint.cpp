@@ -29,7 +29,8 @@ int DistanceJoint::fill(const JointContext& ctx, std::span<Row> rows) const {
 
 void DistanceJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
                               std::span<double> out) const {
-  if (!rows.empty()) out[0] = points_.curvature(ctx.b1, ctx.b2);
+  // A rope's row is the limit's, |d| <= L as -|d| >= -L: its rate and curvature change sign.
+  if (!rows.empty()) out[0] = (def().rope ? -1.0 : 1.0) * points_.curvature(ctx.b1, ctx.b2);
 }
 
 }  // namespace linx::joints

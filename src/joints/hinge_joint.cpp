@@ -57,10 +57,12 @@ void HingeJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
   const Vec3 point = pointCurvature(Arms::of(frames_, ctx.b1, ctx.b2), ctx.b1, ctx.b2);
   Vec3 t[2];
   frames_.tangents(ctx.b2, t[0], t[1]);
+  // The angle's rows (its limits, lock, prescribed motion) turn about body 2's axis.
+  const double angle = turningCurvature(ctx.b2.pose.orientation * frames_.axis2, ctx.b1, ctx.b2);
   curvatureBySlot(rows, out, [&](int slot) {
     return slot < 3   ? point[slot]
            : slot < 5 ? turningCurvature(t[slot - 3], ctx.b1, ctx.b2)
-                      : kMeasuredCurvature;  // a coordinate's row
+                      : coordinateRowSign(slot) * angle;
   });
 }
 

@@ -196,6 +196,12 @@ void forceRow(const JointContext& ctx, double force, Row& row);
 constexpr int coordinateSlot(int index, int part) {
   return 16 + 16 * index + part;
 }
+/// The sign of a coordinate's row (slot >= 16) against the coordinate's own: -1 for the upper
+/// limit's (coordinate <= bound is taken as -coordinate >= -bound, limitRow), +1 for the others.
+/// A coordinate row's curvature is the coordinate's times it.
+constexpr double coordinateRowSign(int slot) {
+  return slot >= 16 && (slot - 16) % 16 == 1 ? -1.0 : 1.0;
+}
 /// Whether a row's slot (its key's low byte) is a prescribed coordinate's (part 6).
 constexpr bool isPrescribedSlot(int slot) {
   return slot >= 16 && (slot - 16) % 16 == 6;

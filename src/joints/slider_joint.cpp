@@ -45,10 +45,13 @@ void SliderJoint::curvature(const JointContext& ctx, std::span<const Row> rows,
   const Arms arms = Arms::of(frames_, ctx.b1, ctx.b2);
   Vec3 t[2];
   frames_.tangents(ctx.b2, t[0], t[1]);
+  // The position's rows (its limits, lock, prescribed motion) run along body 2's axis.
+  const double position =
+      linearCurvature(arms, ctx.b2.pose.orientation * frames_.axis2, ctx.b1, ctx.b2);
   curvatureBySlot(rows, out, [&](int slot) {
     return slot < 3   ? 0.0  // the lock rows' axes are the world's
            : slot < 5 ? linearCurvature(arms, t[slot - 3], ctx.b1, ctx.b2)
-                      : kMeasuredCurvature;  // the coordinate's row
+                      : coordinateRowSign(slot) * position;
   });
 }
 

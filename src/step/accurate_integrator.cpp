@@ -65,7 +65,7 @@ int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
     const int island = islandOf(rows[k], bodies, islands, kinematic);
     if (island < 0) continue;
     const bool held =
-        k < joint_rows && (holdsExactly(rows[k], settings) || actsAsForce(rows[k], joints));
+        k < joint_rows && (mayHold(rows[k], settings) || actsAsForce(rows[k], joints));
     std::uint8_t& ok = island_ok_[static_cast<std::size_t>(island)];
     if (!held || kinematic)
       ok = 0;
@@ -87,6 +87,7 @@ int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
 
 void AccurateIntegrator::persist(state::Archive& archive) {
   archive(next_step_);
+  limits_.persist(archive);
   if (archive.loading() && !(next_step_ >= 0.0 && std::isfinite(next_step_)))
     throw state::StateError("accurate integrator: step size not a finite number >= 0");
 }
@@ -111,7 +112,8 @@ Vec3 AccurateIntegrator::anchorArm(const Row& r) const {
 void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::span<Motion> rate,
                                std::vector<Row>& forces) {
   put(state, bodies_);
-  dynamics_.accelerations(joints_, bodies_, *settings_, moving_, time, threads_, dv_, dw_);
+  dynamics_.accelerations(joints_, bodies_, *settings_, moving_, limits_.held(), time, threads_,
+                          dv_, dw_);
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     const auto i = static_cast<std::size_t>(ids_[n]);
     const Motion& m = state[n];
@@ -174,6 +176,7 @@ void AccurateIntegrator::begin(std::span<const std::unique_ptr<Joint>> joints,
   y1_.resize(n);
   error_.resize(n);
   impulses_.clear();
+  switched_.clear();
 }
 
 void AccurateIntegrator::take() {
@@ -192,12 +195,32 @@ void AccurateIntegrator::projectStart(std::span<const std::unique_ptr<Joint>> jo
                                       std::span<Body> bodies, const SolverSettings& settings,
                                       std::span<const std::uint8_t> accurate, const Handover& lag,
                                       double time, int threads) {
+  limits_.keep(accurate, lag.unprojected);
   if (lag.unprojected.empty()) return;
   bool any = false;
   for (const int i : ids_) any = any || lag.unprojected[static_cast<std::size_t>(i)] != 0;
   if (any)
-    projection_.project(joints, bodies, settings, accurate, time, 10, settings.projection_tolerance,
-                        threads);
+    projection_.project(joints, bodies, settings, accurate, limits_.held(), time, 10,
+                        settings.projection_tolerance, threads);
+}
+
+void AccurateIntegrator::settleLimits(double time) {
+  const SolverSettings& solver = settings_->solver;
+  const double tolerance = settings_->integrator.tolerance;
+  released_.clear();
+  // Each round switches at least one limit and a released one is not held again: it ends.
+  for (;;) {
+    measureLimits(start_values_);
+    const std::size_t before = switched_.size();
+    limits_.settle(start_values_, tolerance, released_, switched_);
+    if (switched_.size() == before) return;
+    // The state onto the manifold with the limits held now (rates() left it in the bodies): one
+    // past its bound comes back to it, one closing loses its rate.
+    projection_.project(joints_, bodies_, solver, moving_, limits_.held(), time, 10,
+                        solver.projection_tolerance, threads_);
+    take();
+    rates(y0_, time, k_[0], stage_rows_[0]);
+  }
 }
 
 bool AccurateIntegrator::catchUp(const Handover& lag, double time) {
@@ -247,6 +270,7 @@ double AccurateIntegrator::attempt(double time, double dt) {
     }
     error_[m] = e;
   }
+  measureLimits(end_values_);  // the last stage's state is y1
   return errorNorm(settings_->integrator.tolerance);
 }
 
@@ -298,21 +322,26 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
   take();
   catchUp(lag, time);
   const SolverSettings& solver = settings.solver;
+  const double tolerance = settings.integrator.tolerance;
   double t = 0.0;  // into the frame
-  // The next step's size: the last frame's proposal, else the whole frame.
-  double dt = next_step_ > 0.0 ? std::min(next_step_, h) : h;
-  bool fresh = false;  // k_[0] holds the rates at y0_
+  // The error's proposal for the next step: the last frame's, else the whole frame.
+  double proposal = next_step_ > 0.0 ? std::min(next_step_, h) : h;
+  double cut = kInfinity;  // a limit's event ahead: the step's length to retry with
+  bool fresh = false;      // k_[0] holds the rates at y0_, start_values_ the limits' values there
   constexpr int kMaxSteps = 100000;
   while (t < h) {
+    double dt = std::min(proposal, cut);
     if (report.steps + report.rejected > kMaxSteps || !(dt > h * 1e-12))
       throw std::domain_error(
           fmt::format("accurate integrator: the step size fell to {:.3g} s at t = {} s (the motion "
                       "is too fast or the joints are singular for integrator.tolerance {})",
-                      dt, time + t, settings.integrator.tolerance));
-    const double natural = dt;
+                      dt, time + t, tolerance));
     const bool last = t + dt >= h * (1.0 - 1e-12);
     if (last) dt = h - t;
-    if (!fresh) rates(y0_, time + t, k_[0], stage_rows_[0]);
+    if (!fresh) {
+      rates(y0_, time + t, k_[0], stage_rows_[0]);
+      settleLimits(time + t);
+    }
     fresh = true;
     const double err = attempt(time + t, dt);
     // The next size from the estimate (Hairer, Norsett, Wanner II.4): safety 0.9, between a fifth
@@ -321,24 +350,34 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
         std::clamp(0.9 * std::pow(std::max(err, 1e-10), -1.0 / dp::kErrorExponent), 0.2, 5.0);
     if (!(err <= 1.0)) {
       ++report.rejected;
-      dt *= std::min(grow, 0.9);
+      proposal = dt * std::min(grow, 0.9);
+      continue;
+    }
+    // A step that ends past a limit's event is retried shorter, to end on it.
+    const double share = LimitEvents::share(end_values_, start_values_, tolerance);
+    if (share < 1.0) {
+      ++report.rejected;
+      cut = dt * share;
       continue;
     }
     addImpulses(dt);
     put(y1_, bodies);
     t = last ? h : t + dt;
-    report.error =
-        std::max(report.error, projection_.project(joints, bodies, solver, accurate, time + t, 10,
-                                                   solver.projection_tolerance, threads));
+    report.error = std::max(
+        report.error, projection_.project(joints, bodies, solver, accurate, limits_.held(),
+                                          time + t, 10, solver.projection_tolerance, threads));
     take();
     // The next step starts from the rates at the projected state: the last stage's, taken before
     // the projection, made the four-bar through its singular positions reject steps and cost 4x.
     fresh = false;
     ++report.steps;
-    // A last step cut short to end the frame proposes no less than the size it was cut from.
-    dt = last && dt < natural ? std::max(natural, dt * grow) : dt * grow;
+    // A step cut short (to end the frame, or on an event) proposes no less than the size it was
+    // cut from.
+    proposal = dt < proposal ? std::max(proposal, dt * grow) : dt * grow;
+    cut = kInfinity;
   }
-  next_step_ = dt;
+  report.events = static_cast<int>(switched_.size());
+  next_step_ = proposal;
   putImpulses(rows, lambda);
   return report;
 }
@@ -357,14 +396,20 @@ IntegratorReport AccurateIntegrator::tryOneStep(
   take();
   catchUp(lag, time);
   rates(y0_, time, k_[0], stage_rows_[0]);
+  settleLimits(time);
   attempt(time, h);
-  // Each island on its own error: the islands do not act on each other.
+  // Each island on its own error (the islands do not act on each other), and its limits: one whose
+  // step ends past a limit's event takes the step for this frame.
+  const double tolerance = settings.integrator.tolerance;
   island_error_.assign(static_cast<std::size_t>(islands.count()), 0.0);
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     const auto island = static_cast<std::size_t>(islands.islandOf(ids_[n]));
     double& e = island_error_[island];
-    e = std::max(e, bodyError(n, settings.integrator.tolerance) / limits[island]);
+    e = std::max(e, bodyError(n, tolerance) / limits[island]);
   }
+  for (const LimitValue& v : end_values_)
+    if (LimitEvents::share(v, start_values_, tolerance) < 1.0)
+      island_error_[static_cast<std::size_t>(islands.islandOf(v.bodies[0]))] = kInfinity;
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     const auto i = static_cast<std::size_t>(ids_[n]);
     if (island_error_[static_cast<std::size_t>(islands.islandOf(ids_[n]))] <= 1.0) {
@@ -386,8 +431,10 @@ IntegratorReport AccurateIntegrator::tryOneStep(
     if (!accurate[static_cast<std::size_t>(ids_[n])]) y1_[n] = y0_[n];
   put(y1_, bodies);
   addImpulses(h, accurate);
-  report.error = projection_.project(joints, bodies, settings.solver, accurate, time + h, 10,
-                                     settings.solver.projection_tolerance, threads);
+  report.error = projection_.project(joints, bodies, settings.solver, accurate, limits_.held(),
+                                     time + h, 10, settings.solver.projection_tolerance, threads);
+  for (const int body : switched_)
+    if (body >= 0 && accurate[static_cast<std::size_t>(body)]) ++report.events;
   putImpulses(rows, lambda);
   return report;
 }

@@ -17,6 +17,7 @@
 
 #include "step/constrained_dynamics.hpp"
 #include "step/islands.hpp"
+#include "step/limit_events.hpp"
 #include "step/manifold_projection.hpp"
 
 #include <array>
@@ -60,11 +61,12 @@ bool onFlaggedBody(const Row& r, std::span<const std::uint8_t> flags);
 class AccurateIntegrator {
  public:
   /// Flags in `accurate` (one per body) the bodies of the awake islands it moves: islands of
-  /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly) or rows it applies
-  /// as forces (actsAsForce: coordinate forces, springs, servos); an island with a contact, a
-  /// limit, a velocity motor, friction, armature, a prescribed motion or a joint to a kinematic
-  /// body takes the step; with `jointed_only`, so does an island without a joint row (a free
-  /// body). The first `joint_rows` rows are the joints'. Returns how many bodies it flagged.
+  /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly), limits
+  /// (mayHold: events of its steps, step/limit_events) or rows it applies as forces (actsAsForce:
+  /// coordinate forces, springs, servos); an island with a contact, a velocity motor, friction,
+  /// armature, a prescribed motion or a joint to a kinematic body takes the step; with
+  /// `jointed_only`, so does an island without a joint row (a free body). The first `joint_rows`
+  /// rows are the joints'. Returns how many bodies it flagged.
   int select(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
              std::span<const Row> rows, std::size_t joint_rows, const Islands& islands,
              std::span<const std::uint8_t> island_awake, const SolverSettings& settings,
@@ -83,9 +85,9 @@ class AccurateIntegrator {
 
   /// Integrator "auto": one step of length h for each flagged island, from the bodies' state at
   /// `time`. An island whose local error stays within its share of the tolerance (`limits`, per
-  /// island) keeps it (projected, its impulses into `rows` and `lambda` as with advance); the flags
-  /// of the others are cleared in `accurate`, their bodies left for the caller to put back.
-  /// `islands`: those of the bodies.
+  /// island) and whose step meets no limit's event (but at its start) keeps it (projected, its
+  /// impulses into `rows` and `lambda` as with advance); the flags of the others are cleared in
+  /// `accurate`, their bodies left for the caller to put back. `islands`: those of the bodies.
   IntegratorReport tryOneStep(std::span<const std::unique_ptr<Joint>> joints,
                               std::span<Body> bodies, const WorldSettings& settings,
                               const Islands& islands, std::span<const double> limits,
@@ -129,8 +131,18 @@ class AccurateIntegrator {
   /// did (k_[0] then holds the rates before the catch-up).
   bool catchUp(const Handover& lag, double time);
   /// One Runge-Kutta step of length dt from y0 (k_[0] holding its rates) at `time`: the stages,
-  /// the fifth-order solution in y1, and the local error's norm against the tolerance.
+  /// the fifth-order solution in y1, and the local error's norm against the tolerance. The limits'
+  /// values at y1 (the last stage's state) into end_values_.
   double attempt(double time, double dt);
+  /// At a step's start, y0 and k_[0] its rates at `time`: the limits that meet or leave their
+  /// bounds there switch (LimitEvents::settle), the state is projected with those held (a plastic
+  /// impact for one that was closing) and its rates taken again, until none switches. The limits'
+  /// values at y0 into start_values_, the bodies of the limits that switched into switched_.
+  void settleLimits(double time);
+  /// The limits' values at the state of the last rates().
+  void measureLimits(std::vector<LimitValue>& out) const {
+    limits_.measure(dynamics_.openLimits(), dynamics_.rows(), dynamics_.forces(), bodies_, out);
+  }
   /// Adds an accepted step's share of the joints' impulses (and their weighted directions).
   void addImpulses(double dt) { addImpulses(dt, {}); }
   /// The frame's impulses onto the rows (by key): lambda and each row's mean direction.
@@ -166,6 +178,10 @@ class AccurateIntegrator {
   std::vector<double> island_error_;
   ConstrainedDynamics dynamics_;
   ManifoldProjection projection_;
+  LimitEvents limits_;
+  std::vector<LimitValue> start_values_, end_values_;
+  std::vector<std::uint64_t> released_;
+  std::vector<int> switched_;
 };
 
 }  // namespace linx::step

@@ -45,6 +45,15 @@ std::optional<std::pair<double, double>> driveLaw(const Row& r,
   return std::nullopt;  // armature
 }
 
+/// A held limit's row as the equality it is held as (its bounds are the solver's business
+/// otherwise: an active set would never let it pull, which is how the release is found).
+Row asEquality(Row r) {
+  r.kind = RowKind::Bilateral;
+  r.lo = -kInfinity;
+  r.hi = kInfinity;
+  return r;
+}
+
 bool isMoving(BodyId id, std::span<const std::uint8_t> moving) {
   return !id.isWorld() && moving[static_cast<std::size_t>(id.index)] != 0;
 }
@@ -127,7 +136,7 @@ bool actsOnMoving(const Row& r, std::span<const std::uint8_t> moving) {
 
 void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                       const SolverSettings& settings, std::span<const std::uint8_t> moving,
-                      double time, std::vector<Row>& all, std::vector<Row>& out) {
+                      HeldLimits held, double time, std::vector<Row>& all, std::vector<Row>& out) {
   out.clear();
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
@@ -136,7 +145,7 @@ void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<
     const int n =
         fillJoint(joints, ji, bodies, contextOf(bodies, j, settings, kAssemblyStep, time), slots);
     for (const Row& r : std::span<const Row>(slots).first(static_cast<std::size_t>(n)))
-      if (holdsExactly(r, settings) && actsOnMoving(r, moving)) out.push_back(r);
+      if (holdsExactly(r, settings, held) && actsOnMoving(r, moving)) out.push_back(asEquality(r));
   }
 }
 
@@ -144,10 +153,12 @@ bool actsAsForce(const Row& row, std::span<const std::unique_ptr<Joint>> joints)
   return isForceRow(row) || driveLaw(row, joints).has_value();
 }
 
-bool holdsExactly(const Row& row, const SolverSettings& settings) {
+bool holdsExactly(const Row& row, const SolverSettings& settings, HeldLimits held) {
+  if (row.cfm > settings.cfm) return false;
+  if (isLimit(row)) return std::binary_search(held.begin(), held.end(), row.key);
   // (Only a prescribed coordinate's equality has a speed of its own; the step's curvature may have
   // set one on the others.)
-  return row.kind == RowKind::Bilateral && row.cfm <= settings.cfm &&
+  return row.kind == RowKind::Bilateral &&
          !joints::isPrescribedSlot(static_cast<int>(row.key & 0xff));
 }
 
@@ -167,6 +178,7 @@ void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
   const double eps = differenceStep(bodies, moving);
   rows_.clear();
   forces_.clear();
+  open_.clear();
   curvature_.clear();
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
@@ -179,9 +191,11 @@ void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
     bool equalities = false;
     for (const Row& r : rows) {
       if (!actsOnMoving(r, moving)) continue;
-      if (holdsExactly(r, settings)) {
-        rows_.push_back(r);
+      if (holdsExactly(r, settings, held_)) {
+        rows_.push_back(asEquality(r));
         equalities = true;
+      } else if (isLimit(r)) {
+        open_.push_back(r);
       } else if (isForceRow(r)) {
         Row& f = forces_.emplace_back(r);
         f.lo = f.hi = r.lo / kAssemblyStep;
@@ -217,7 +231,7 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
   const std::size_t start = curvature_.size();
   bool known = true;
   for (std::size_t k = 0; k < rows.size() && known; ++k) {
-    if (!actsOnMoving(rows[k], moving) || !holdsExactly(rows[k], settings)) continue;
+    if (!actsOnMoving(rows[k], moving) || !holdsExactly(rows[k], settings, held_)) continue;
     known = std::isfinite(closed_[k]);
     curvature_.push_back(closed_[k]);
   }
@@ -243,7 +257,7 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
   };
   std::size_t next_before = 0, next_after = 0;
   for (const Row& r : rows) {
-    if (!actsOnMoving(r, moving) || !holdsExactly(r, settings)) continue;
+    if (!actsOnMoving(r, moving) || !holdsExactly(r, settings, held_)) continue;
     const std::size_t b = match(before, next_before, r.key);
     const std::size_t a = match(after, next_after, r.key);
     if (b == before.size() || a == after.size()) {  // a row that comes or goes
@@ -292,8 +306,10 @@ void ConstrainedDynamics::refine(std::size_t equalities) {
 
 void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> joints,
                                         std::span<const Body> bodies, const WorldSettings& settings,
-                                        std::span<const std::uint8_t> moving, double time,
-                                        int threads, std::span<Vec3> dv, std::span<Vec3> dw) {
+                                        std::span<const std::uint8_t> moving, HeldLimits held,
+                                        double time, int threads, std::span<Vec3> dv,
+                                        std::span<Vec3> dw) {
+  held_ = held;
   // The equality rows first (they are solved), then the coordinate forces (they are applied).
   gather(joints, bodies, settings.solver, moving, time);
   const std::size_t equalities = curvature_.size();

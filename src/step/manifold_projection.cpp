@@ -24,8 +24,8 @@ void ManifoldProjection::solve(const SolverSettings& settings, int threads) {
 
 double ManifoldProjection::project(std::span<const std::unique_ptr<Joint>> joints,
                                    std::span<Body> bodies, const SolverSettings& settings,
-                                   std::span<const std::uint8_t> moving, double time,
-                                   int iterations, double tolerance, int threads) {
+                                   std::span<const std::uint8_t> moving, HeldLimits held,
+                                   double time, int iterations, double tolerance, int threads) {
   solver_bodies_.resize(bodies.size());
   const auto gatherBodies = [&](bool velocities) {
     for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -40,7 +40,7 @@ double ManifoldProjection::project(std::span<const std::unique_ptr<Joint>> joint
   // Positions: Newton's iterations on phi = 0, the rows assembled afresh at each.
   double error = 0.0;
   for (int it = 0;; ++it) {
-    gatherEqualities(joints, bodies, settings, moving, time, all_, rows_);
+    gatherEqualities(joints, bodies, settings, moving, held, time, all_, rows_);
     error = 0.0;
     for (const Row& r : rows_) error = std::max(error, std::abs(r.phi));
     if (rows_.empty() || error <= tolerance || it == iterations) break;

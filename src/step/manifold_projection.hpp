@@ -18,6 +18,7 @@
 #include "solver/dense_equalities.hpp"
 #include "solver/exact_solver.hpp"
 #include "solver/problem.hpp"
+#include "step/constrained_dynamics.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -29,12 +30,13 @@ namespace linx::step {
 class ManifoldProjection {
  public:
   /// Projects the poses, then the velocities, of the bodies flagged in `moving` onto the joints'
-  /// equality manifold at `time`: at most `iterations` Newton iterations, stopping once every error
-  /// is below `tolerance` (m or rad). Returns the largest error left (measured before the last
-  /// iteration's correction when the iterations ran out).
+  /// equality manifold at `time`, the limits in `held` among the equalities: at most `iterations`
+  /// Newton iterations, stopping once every error is below `tolerance` (m or rad). Returns the
+  /// largest error left (measured before the last iteration's correction when the iterations ran
+  /// out). A held limit that was closing loses its closing rate: a plastic impact.
   double project(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
-                 const SolverSettings& settings, std::span<const std::uint8_t> moving, double time,
-                 int iterations, double tolerance, int threads);
+                 const SolverSettings& settings, std::span<const std::uint8_t> moving,
+                 HeldLimits held, double time, int iterations, double tolerance, int threads);
 
  private:
   /// Solves (J M^-1 J^T) l = target - J u* for the rows, with u* the solver bodies' velocities,

@@ -183,12 +183,12 @@ void tryOneAccurateStep(const Scene& scene, State& state, const Handover& lag, d
   }
 }
 
-/// accurate: with integrator "accurate", the awake islands of joints alone (no contact, limit,
-/// motor or drive rows) move over the pass by the accurate integrator from their state at its
-/// start (the velocities before the velocities stage), and their joints' impulses become the
-/// rows'. With "auto", those of them not waiting (step/integrator_choice) try one step of it and
-/// keep it where it holds the tolerance; the others are put back for the solve. Returns the awake
-/// islands left to the solve (empty: all).
+/// accurate: with integrator "accurate", the awake islands of joints alone (no contact, velocity
+/// motor, friction or armature rows; limits are events of its steps) move over the pass by the
+/// accurate integrator from their state at its start (the velocities before the velocities stage),
+/// and their joints' impulses become the rows'. With "auto", those of them not waiting
+/// (step/integrator_choice) try one step of it and keep it where it holds the tolerance; the others
+/// are put back for the solve. Returns the awake islands left to the solve (empty: all).
 std::span<const std::uint8_t> integrateAccurately(const Scene& scene, State& state,
                                                   std::span<const std::uint8_t> island_awake,
                                                   double h, double lag) {

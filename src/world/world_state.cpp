@@ -17,7 +17,7 @@ namespace {
 
 constexpr std::uint32_t kStateMagic = 0x7473'786c;  // "lxst" in little-endian bytes
 constexpr std::uint32_t kStateVersion =
-    3;  // 2: the accurate integrator's step size; 3: auto's waits
+    4;  // 2: the accurate integrator's step size; 3: auto's waits; 4: the held limits
 
 // What a state must match to be put in a world: its bodies (slot and name), its joints (slot,
 // type and name) and its standing loads.
