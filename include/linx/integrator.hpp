@@ -35,8 +35,10 @@ struct IntegratorReport {
   int steps = 0;       ///< its accepted Runge-Kutta steps
   int rejected = 0;    ///< steps it tried and refused (local error above the tolerance)
   double error = 0.0;  ///< the largest joint error it projected away (m or rad)
-  /// Limits it met (a plastic impact, then held) or left (their force fell to zero), in the
-  /// states it kept: each an event its steps ended on (docs/integrators.md, "Limits").
+  /// Rows it switched in the states it kept, each at an event its steps ended on: limits met (a
+  /// plastic impact, then held) or left (their force fell to zero), velocity motors and joint
+  /// friction locked on their target rate or slipping at their bound (docs/integrators.md,
+  /// "Limits, motors and friction").
   int events = 0;
 };
 

@@ -242,7 +242,7 @@ class World {
   std::int64_t stepCount() const { return steps_; }
   const SolverReport& lastReport() const { return report_; }
   /// What the accurate integrator did over the last step (all zero with integrator "step", or
-  /// when every island took the step: a contact, a velocity motor, friction, armature).
+  /// when every island took the step: a contact, armature, a prescribed coordinate).
   const IntegratorReport& lastIntegratorReport() const;
 
   /// The joint's coordinates (hinge angle in rad, slider position in m, ...: Joint::coordinates),

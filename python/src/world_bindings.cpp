@@ -237,7 +237,8 @@ void bindWorld(py::module_& m) {
       },
       "What the accurate integrator did over the last step: bodies it moved (the others took the "
       "step), its accepted steps, the steps it refused, the largest joint error it projected "
-      "away, the limits it met or left (events).");
+      "away, the rows it switched (events: limits met or left, motors and friction locked or "
+      "slipping).");
 
   c.def(
       "save_state", [](PyWorld& self) { return stateBytes(self.world().saveState()); },

@@ -87,9 +87,16 @@ int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
 
 void AccurateIntegrator::persist(state::Archive& archive) {
   archive(next_step_);
-  limits_.persist(archive);
+  events_.persist(archive);
   if (archive.loading() && !(next_step_ >= 0.0 && std::isfinite(next_step_)))
     throw state::StateError("accurate integrator: step size not a finite number >= 0");
+}
+
+bool AccurateIntegrator::flaggedAny(std::span<const std::uint8_t> flags) const {
+  if (flags.empty()) return false;
+  for (const int i : ids_)
+    if (flags[static_cast<std::size_t>(i)]) return true;
+  return false;
 }
 
 void AccurateIntegrator::put(std::span<const Motion> state, std::span<Body> bodies) const {
@@ -112,7 +119,7 @@ Vec3 AccurateIntegrator::anchorArm(const Row& r) const {
 void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::span<Motion> rate,
                                std::vector<Row>& forces) {
   put(state, bodies_);
-  dynamics_.accelerations(joints_, bodies_, *settings_, moving_, limits_.held(), time, threads_,
+  dynamics_.accelerations(joints_, bodies_, *settings_, moving_, events_.switches(), time, threads_,
                           dv_, dw_);
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     const auto i = static_cast<std::size_t>(ids_[n]);
@@ -191,50 +198,51 @@ void AccurateIntegrator::take() {
   }
 }
 
-void AccurateIntegrator::projectStart(std::span<const std::unique_ptr<Joint>> joints,
-                                      std::span<Body> bodies, const SolverSettings& settings,
-                                      std::span<const std::uint8_t> accurate, const Handover& lag,
-                                      double time, int threads) {
-  limits_.keep(accurate, lag.unprojected);
-  if (lag.unprojected.empty()) return;
-  bool any = false;
-  for (const int i : ids_) any = any || lag.unprojected[static_cast<std::size_t>(i)] != 0;
-  if (any)
-    projection_.project(joints, bodies, settings, accurate, limits_.held(), time, 10,
-                        settings.projection_tolerance, threads);
-}
-
-void AccurateIntegrator::settleLimits(double time) {
+void AccurateIntegrator::settleEvents(double time) {
   const SolverSettings& solver = settings_->solver;
   const double tolerance = settings_->integrator.tolerance;
   released_.clear();
-  // Each round switches at least one limit and a released one is not held again: it ends.
+  // Each round switches at least one row and a released one is not held again: it ends.
   for (;;) {
-    measureLimits(start_values_);
+    measureEvents(start_values_);
     const std::size_t before = switched_.size();
-    limits_.settle(start_values_, tolerance, released_, switched_);
+    events_.settle(start_values_, tolerance, released_, switched_);
     if (switched_.size() == before) return;
-    // The state onto the manifold with the limits held now (rates() left it in the bodies): one
-    // past its bound comes back to it, one closing loses its rate.
-    projection_.project(joints_, bodies_, solver, moving_, limits_.held(), time, 10,
+    // The state onto the manifold with the rows held now (rates() left it in the bodies): a limit
+    // past its bound comes back to it, one closing loses its rate, a locked row takes its target.
+    projection_.project(joints_, bodies_, solver, moving_, events_.switches(), time, 10,
                         solver.projection_tolerance, threads_);
     take();
     rates(y0_, time, k_[0], stage_rows_[0]);
   }
 }
 
-bool AccurateIntegrator::catchUp(const Handover& lag, double time) {
-  if (lag.behind.empty()) return false;
-  bool any = false;
-  for (const int i : ids_) any = any || lag.behind[static_cast<std::size_t>(i)] != 0;
-  if (!any) return false;
+void AccurateIntegrator::startFrame(const Handover& lag, double time) {
+  events_.keep(moving_, lag.unprojected);
+  take();
   rates(y0_, time, k_[0], stage_rows_[0]);
+  settleEvents(time);
+  // A state the accurate integrator did not leave (the step's, which holds the joints to its
+  // solver's tolerance, or one set) onto the manifold, positions then velocities, as after each
+  // of its steps: its index-1 equations would keep a velocity's violation for the whole step.
+  if (flaggedAny(lag.unprojected)) {
+    const SolverSettings& solver = settings_->solver;
+    projection_.project(joints_, bodies_, solver, moving_, events_.switches(), time, 10,
+                        solver.projection_tolerance, threads_);
+    take();
+    rates(y0_, time, k_[0], stage_rows_[0]);
+    settleEvents(time);
+  }
+  // The bodies behind catch up by the acceleration with the switched rows as they stand (a body
+  // resting on a limit, or a motor's locked rate, gains nothing along them).
+  if (!flaggedAny(lag.behind)) return;
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     if (!lag.behind[static_cast<std::size_t>(ids_[n])]) continue;
     y0_[n].v += lag.time * k_[0][n].v;
     y0_[n].w += lag.time * k_[0][n].w;
   }
-  return true;
+  rates(y0_, time, k_[0], stage_rows_[0]);
+  settleEvents(time);
 }
 
 double AccurateIntegrator::attempt(double time, double dt) {
@@ -270,7 +278,7 @@ double AccurateIntegrator::attempt(double time, double dt) {
     }
     error_[m] = e;
   }
-  measureLimits(end_values_);  // the last stage's state is y1
+  measureEvents(end_values_);  // the last stage's state is y1
   return errorNorm(settings_->integrator.tolerance);
 }
 
@@ -318,16 +326,14 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
   IntegratorReport report;
   report.bodies = static_cast<int>(ids_.size());
   if (ids_.empty()) return report;
-  projectStart(joints, bodies, settings.solver, accurate, lag, time, threads);
-  take();
-  catchUp(lag, time);
+  startFrame(lag, time);
   const SolverSettings& solver = settings.solver;
   const double tolerance = settings.integrator.tolerance;
   double t = 0.0;  // into the frame
   // The error's proposal for the next step: the last frame's, else the whole frame.
   double proposal = next_step_ > 0.0 ? std::min(next_step_, h) : h;
-  double cut = kInfinity;  // a limit's event ahead: the step's length to retry with
-  bool fresh = false;      // k_[0] holds the rates at y0_, start_values_ the limits' values there
+  double cut = kInfinity;  // an event ahead: the step's length to retry with
+  bool fresh = true;       // k_[0] holds the rates at y0_, start_values_ the events' values there
   constexpr int kMaxSteps = 100000;
   while (t < h) {
     double dt = std::min(proposal, cut);
@@ -340,7 +346,7 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
     if (last) dt = h - t;
     if (!fresh) {
       rates(y0_, time + t, k_[0], stage_rows_[0]);
-      settleLimits(time + t);
+      settleEvents(time + t);
     }
     fresh = true;
     const double err = attempt(time + t, dt);
@@ -353,8 +359,8 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
       proposal = dt * std::min(grow, 0.9);
       continue;
     }
-    // A step that ends past a limit's event is retried shorter, to end on it.
-    const double share = LimitEvents::share(end_values_, start_values_, tolerance);
+    // A step that ends past an event is retried shorter, to end on it.
+    const double share = RowEvents::share(end_values_, start_values_, tolerance);
     if (share < 1.0) {
       ++report.rejected;
       cut = dt * share;
@@ -364,7 +370,7 @@ IntegratorReport AccurateIntegrator::advance(std::span<const std::unique_ptr<Joi
     put(y1_, bodies);
     t = last ? h : t + dt;
     report.error = std::max(
-        report.error, projection_.project(joints, bodies, solver, accurate, limits_.held(),
+        report.error, projection_.project(joints, bodies, solver, accurate, events_.switches(),
                                           time + t, 10, solver.projection_tolerance, threads));
     take();
     // The next step starts from the rates at the projected state: the last stage's, taken before
@@ -392,14 +398,10 @@ IntegratorReport AccurateIntegrator::tryOneStep(
   lag_v_.assign(bodies.size(), Vec3::Zero());
   lag_w_.assign(bodies.size(), Vec3::Zero());
   if (ids_.empty()) return report;
-  projectStart(joints, bodies, settings.solver, accurate, lag, time, threads);
-  take();
-  catchUp(lag, time);
-  rates(y0_, time, k_[0], stage_rows_[0]);
-  settleLimits(time);
+  startFrame(lag, time);
   attempt(time, h);
-  // Each island on its own error (the islands do not act on each other), and its limits: one whose
-  // step ends past a limit's event takes the step for this frame.
+  // Each island on its own error (the islands do not act on each other), and its events: one whose
+  // step ends past an event takes the step for this frame.
   const double tolerance = settings.integrator.tolerance;
   island_error_.assign(static_cast<std::size_t>(islands.count()), 0.0);
   for (std::size_t n = 0; n < ids_.size(); ++n) {
@@ -407,8 +409,8 @@ IntegratorReport AccurateIntegrator::tryOneStep(
     double& e = island_error_[island];
     e = std::max(e, bodyError(n, tolerance) / limits[island]);
   }
-  for (const LimitValue& v : end_values_)
-    if (LimitEvents::share(v, start_values_, tolerance) < 1.0)
+  for (const EventValue& v : end_values_)
+    if (RowEvents::share(v, start_values_, tolerance) < 1.0)
       island_error_[static_cast<std::size_t>(islands.islandOf(v.bodies[0]))] = kInfinity;
   for (std::size_t n = 0; n < ids_.size(); ++n) {
     const auto i = static_cast<std::size_t>(ids_[n]);
@@ -431,7 +433,7 @@ IntegratorReport AccurateIntegrator::tryOneStep(
     if (!accurate[static_cast<std::size_t>(ids_[n])]) y1_[n] = y0_[n];
   put(y1_, bodies);
   addImpulses(h, accurate);
-  report.error = projection_.project(joints, bodies, settings.solver, accurate, limits_.held(),
+  report.error = projection_.project(joints, bodies, settings.solver, accurate, events_.switches(),
                                      time + h, 10, settings.solver.projection_tolerance, threads);
   for (const int body : switched_)
     if (body >= 0 && accurate[static_cast<std::size_t>(body)]) ++report.events;

@@ -17,8 +17,8 @@
 
 #include "step/constrained_dynamics.hpp"
 #include "step/islands.hpp"
-#include "step/limit_events.hpp"
 #include "step/manifold_projection.hpp"
+#include "step/row_events.hpp"
 
 #include <array>
 #include <cstdint>
@@ -61,10 +61,11 @@ bool onFlaggedBody(const Row& r, std::span<const std::uint8_t> flags);
 class AccurateIntegrator {
  public:
   /// Flags in `accurate` (one per body) the bodies of the awake islands it moves: islands of
-  /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly), limits
-  /// (mayHold: events of its steps, step/limit_events) or rows it applies as forces (actsAsForce:
-  /// coordinate forces, springs, servos); an island with a contact, a velocity motor, friction,
-  /// armature, a prescribed motion or a joint to a kinematic body takes the step; with
+  /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly), rows it switches
+  /// (mayHold: limits, velocity motors and joint friction, events of its steps, step/row_events)
+  /// or rows it applies as forces (actsAsForce: coordinate forces, springs, servos); an island
+  /// with a contact, armature, a prescribed motion or a joint to a kinematic body takes the step;
+  /// with
   /// `jointed_only`, so does an island without a joint row (a free body). The first `joint_rows`
   /// rows are the joints'. Returns how many bodies it flagged.
   int select(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
@@ -85,8 +86,8 @@ class AccurateIntegrator {
 
   /// Integrator "auto": one step of length h for each flagged island, from the bodies' state at
   /// `time`. An island whose local error stays within its share of the tolerance (`limits`, per
-  /// island) and whose step meets no limit's event (but at its start) keeps it (projected, its
-  /// impulses into `rows` and `lambda` as with advance); the flags of the others are cleared in
+  /// island) and whose step meets no switched row's event (but at its start) keeps it (projected,
+  /// its impulses into `rows` and `lambda` as with advance); the flags of the others are cleared in
   /// `accurate`, their bodies left for the caller to put back. `islands`: those of the bodies.
   IntegratorReport tryOneStep(std::span<const std::unique_ptr<Joint>> joints,
                               std::span<Body> bodies, const WorldSettings& settings,
@@ -120,28 +121,30 @@ class AccurateIntegrator {
   /// Lends the frame's world to the steps below and sizes the buffers.
   void begin(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
              const WorldSettings& settings, std::span<const std::uint8_t> accurate, int threads);
-  /// Projects the flagged bodies onto the joints' manifold at `time` when one of them comes with a
-  /// state `lag` says the accurate integrator did not leave.
-  void projectStart(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
-                    const SolverSettings& settings, std::span<const std::uint8_t> accurate,
-                    const Handover& lag, double time, int threads);
+  /// Whether one of the moving bodies is flagged in `flags` (one per body; empty: none).
+  bool flaggedAny(std::span<const std::uint8_t> flags) const;
   /// y0 from the bodies; throws std::domain_error when it is not finite.
   void take();
-  /// The bodies `lag` says are behind catch up: v += lag.time dv/dt at y0. Returns whether any
-  /// did (k_[0] then holds the rates before the catch-up).
-  bool catchUp(const Handover& lag, double time);
+  /// A frame's first step start, at `time`: the held rows on bodies `lag` says come from elsewhere
+  /// are let go (RowEvents::keep); y0 from the bodies, its rates, the switched rows settled there
+  /// (settleEvents); a state the accurate integrator did not leave projected onto the manifold
+  /// with the rows held that hold at it (a motor the step kept at its target, a body resting on a
+  /// limit), and settled again; then the bodies `lag` says are behind catch up,
+  /// v += lag.time dv/dt, and the rates and rows are taken again.
+  void startFrame(const Handover& lag, double time);
   /// One Runge-Kutta step of length dt from y0 (k_[0] holding its rates) at `time`: the stages,
-  /// the fifth-order solution in y1, and the local error's norm against the tolerance. The limits'
-  /// values at y1 (the last stage's state) into end_values_.
+  /// the fifth-order solution in y1, and the local error's norm against the tolerance. The
+  /// switched rows' values at y1 (the last stage's state) into end_values_.
   double attempt(double time, double dt);
-  /// At a step's start, y0 and k_[0] its rates at `time`: the limits that meet or leave their
-  /// bounds there switch (LimitEvents::settle), the state is projected with those held (a plastic
-  /// impact for one that was closing) and its rates taken again, until none switches. The limits'
-  /// values at y0 into start_values_, the bodies of the limits that switched into switched_.
-  void settleLimits(double time);
-  /// The limits' values at the state of the last rates().
-  void measureLimits(std::vector<LimitValue>& out) const {
-    limits_.measure(dynamics_.openLimits(), dynamics_.rows(), dynamics_.forces(), bodies_, out);
+  /// At a step's start, y0 and k_[0] its rates at `time`: the rows whose events are there switch
+  /// (RowEvents::settle), the state is projected with those held (a plastic impact for a limit
+  /// that was closing, a locked row's rate onto its target) and its rates taken again, until none
+  /// switches. The rows' values at y0 into start_values_, the bodies of the rows that switched
+  /// into switched_.
+  void settleEvents(double time);
+  /// The switched rows' values at the state of the last rates().
+  void measureEvents(std::vector<EventValue>& out) const {
+    events_.measure(dynamics_.openRows(), dynamics_.rows(), dynamics_.forces(), bodies_, out);
   }
   /// Adds an accepted step's share of the joints' impulses (and their weighted directions).
   void addImpulses(double dt) { addImpulses(dt, {}); }
@@ -178,8 +181,8 @@ class AccurateIntegrator {
   std::vector<double> island_error_;
   ConstrainedDynamics dynamics_;
   ManifoldProjection projection_;
-  LimitEvents limits_;
-  std::vector<LimitValue> start_values_, end_values_;
+  RowEvents events_;
+  std::vector<EventValue> start_values_, end_values_;
   std::vector<std::uint64_t> released_;
   std::vector<int> switched_;
 };

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -52,6 +53,19 @@ Row asEquality(Row r) {
   r.lo = -kInfinity;
   r.hi = kInfinity;
   return r;
+}
+
+/// d/dt of a velocity row's target: a velocity motor's target_velocity's rate (a table's slope);
+/// friction's target is zero.
+double targetRate(const Row& r, std::span<const std::unique_ptr<Joint>> joints, double time) {
+  const auto joint = static_cast<std::size_t>((r.key >> 8) - 1);
+  const int slot = static_cast<int>(r.key & 0xff);
+  if (joint >= joints.size() || slot < joints::coordinateSlot(0, 0) || (slot - 16) % 16 != 2)
+    return 0.0;
+  const auto index = static_cast<std::size_t>((slot - 16) / 16);
+  const auto& coordinates = joints[joint]->def().coordinates;
+  if (index >= coordinates.size() || !coordinates[index].motor) return 0.0;
+  return coordinates[index].motor->target_velocity.rate(time);
 }
 
 bool isMoving(BodyId id, std::span<const std::uint8_t> moving) {
@@ -136,8 +150,10 @@ bool actsOnMoving(const Row& r, std::span<const std::uint8_t> moving) {
 
 void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                       const SolverSettings& settings, std::span<const std::uint8_t> moving,
-                      HeldLimits held, double time, std::vector<Row>& all, std::vector<Row>& out) {
+                      const Switches& switches, double time, std::vector<Row>& all,
+                      std::vector<Row>& out, std::vector<double>* targets) {
   out.clear();
+  if (targets) targets->clear();
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
     if (!j.enabled() || !touchesMoving(j, moving)) continue;
@@ -145,7 +161,11 @@ void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<
     const int n =
         fillJoint(joints, ji, bodies, contextOf(bodies, j, settings, kAssemblyStep, time), slots);
     for (const Row& r : std::span<const Row>(slots).first(static_cast<std::size_t>(n)))
-      if (holdsExactly(r, settings, held) && actsOnMoving(r, moving)) out.push_back(asEquality(r));
+      if (holdsExactly(r, settings, switches) && actsOnMoving(r, moving)) {
+        out.push_back(asEquality(r));
+        if (targets)
+          targets->push_back(isVelocityRow(r) ? r.speed : std::numeric_limits<double>::quiet_NaN());
+      }
   }
 }
 
@@ -153,9 +173,16 @@ bool actsAsForce(const Row& row, std::span<const std::unique_ptr<Joint>> joints)
   return isForceRow(row) || driveLaw(row, joints).has_value();
 }
 
-bool holdsExactly(const Row& row, const SolverSettings& settings, HeldLimits held) {
+double velocityBound(const Row& row) {
+  return row.hi / kAssemblyStep;
+}
+
+bool holdsExactly(const Row& row, const SolverSettings& settings, const Switches& switches) {
+  // (Joint friction's row is softened for the step's direct solvers, which would otherwise meet
+  // it and a limit on the same coordinate as a singular pair; held, it is an equality.)
+  if (isVelocityRow(row)) return switches.holds(row.key);
   if (row.cfm > settings.cfm) return false;
-  if (isLimit(row)) return std::binary_search(held.begin(), held.end(), row.key);
+  if (isLimit(row)) return switches.holds(row.key);
   // (Only a prescribed coordinate's equality has a speed of its own; the step's curvature may have
   // set one on the others.)
   return row.kind == RowKind::Bilateral &&
@@ -180,6 +207,7 @@ void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
   forces_.clear();
   open_.clear();
   curvature_.clear();
+  target_rate_.clear();
   for (std::size_t ji = 0; ji < joints.size(); ++ji) {
     const Joint& j = *joints[ji];
     if (!j.enabled() || !touchesMoving(j, moving)) continue;
@@ -191,11 +219,20 @@ void ConstrainedDynamics::gather(std::span<const std::unique_ptr<Joint>> joints,
     bool equalities = false;
     for (const Row& r : rows) {
       if (!actsOnMoving(r, moving)) continue;
-      if (holdsExactly(r, settings, held_)) {
+      if (holdsExactly(r, settings, switches_)) {
         rows_.push_back(asEquality(r));
+        target_rate_.push_back(isVelocityRow(r) ? targetRate(r, joints, time) : 0.0);
         equalities = true;
       } else if (isLimit(r)) {
         open_.push_back(r);
+      } else if (isVelocityRow(r)) {
+        // Slipping: its bound towards its target (the direction settled at the step's start).
+        open_.push_back(r);
+        const double bound = velocityBound(r);
+        if (!std::isfinite(bound)) continue;  // (held as soon as its step starts)
+        const double push = switches_.push(r.key, r.speed >= rowSpeed(r, bodies) ? 1.0 : -1.0);
+        Row& f = forces_.emplace_back(r);
+        f.lo = f.hi = push * bound;
       } else if (isForceRow(r)) {
         Row& f = forces_.emplace_back(r);
         f.lo = f.hi = r.lo / kAssemblyStep;
@@ -231,7 +268,7 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
   const std::size_t start = curvature_.size();
   bool known = true;
   for (std::size_t k = 0; k < rows.size() && known; ++k) {
-    if (!actsOnMoving(rows[k], moving) || !holdsExactly(rows[k], settings, held_)) continue;
+    if (!actsOnMoving(rows[k], moving) || !holdsExactly(rows[k], settings, switches_)) continue;
     known = std::isfinite(closed_[k]);
     curvature_.push_back(closed_[k]);
   }
@@ -257,7 +294,7 @@ void ConstrainedDynamics::measureCurvature(std::span<const std::unique_ptr<Joint
   };
   std::size_t next_before = 0, next_after = 0;
   for (const Row& r : rows) {
-    if (!actsOnMoving(r, moving) || !holdsExactly(r, settings, held_)) continue;
+    if (!actsOnMoving(r, moving) || !holdsExactly(r, settings, switches_)) continue;
     const std::size_t b = match(before, next_before, r.key);
     const std::size_t a = match(after, next_after, r.key);
     if (b == before.size() || a == after.size()) {  // a row that comes or goes
@@ -306,10 +343,10 @@ void ConstrainedDynamics::refine(std::size_t equalities) {
 
 void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> joints,
                                         std::span<const Body> bodies, const WorldSettings& settings,
-                                        std::span<const std::uint8_t> moving, HeldLimits held,
-                                        double time, int threads, std::span<Vec3> dv,
-                                        std::span<Vec3> dw) {
-  held_ = held;
+                                        std::span<const std::uint8_t> moving,
+                                        const Switches& switches, double time, int threads,
+                                        std::span<Vec3> dv, std::span<Vec3> dw) {
+  switches_ = switches;
   // The equality rows first (they are solved), then the coordinate forces (they are applied).
   gather(joints, bodies, settings.solver, moving, time);
   const std::size_t equalities = curvature_.size();
@@ -342,16 +379,17 @@ void ConstrainedDynamics::accelerations(std::span<const std::unique_ptr<Joint>> 
     });
   }
 
-  // J a = -(dJ/dt) u on the equality rows: a velocity solve of unit length with the accelerations
-  // in place of the velocities, without error reduction, and regularized by 1e-11 of each row's
-  // J M^-1 J^T: near a singular position (a four-bar at its dead point) the rows' small pivots
-  // would otherwise amplify round-off and the curvature's difference error into accelerations
-  // that jump from stage to stage, and the error control would cut the step to a hundredth. The
-  // regularization's own error is then taken back by one refinement (refine). A coordinate
-  // force's row takes no part in it (its bounds pin its impulse: it stays at its force).
+  // J a = -(dJ/dt) u on the equality rows (plus d(target)/dt on a held velocity row's): a velocity
+  // solve of unit length with the accelerations in place of the velocities, without error
+  // reduction, and regularized by 1e-11 of each row's J M^-1 J^T: near a singular position (a
+  // four-bar at its dead point) the rows' small pivots would otherwise amplify round-off and the
+  // curvature's difference error into accelerations that jump from stage to stage, and the error
+  // control would cut the step to a hundredth. The regularization's own error is then taken back by
+  // one refinement (refine). A coordinate force's row takes no part in it (its bounds pin its
+  // impulse: it stays at its force).
   for (std::size_t k = 0; k < equalities; ++k) {
     Row& r = rows_[k];
-    r.speed = -curvature_[k];
+    r.speed = target_rate_[k] - curvature_[k];
     r.phi = 0.0;
     r.erp = 0.0;
     double diagonal = 0.0;

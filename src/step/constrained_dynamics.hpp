@@ -18,21 +18,14 @@
 #include "solver/exact_solver.hpp"
 #include "solver/problem.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace linx::step {
-
-/// The keys of the joint limits (unilateral joint rows) the accurate integrator holds as
-/// equalities at the time (step/limit_events), sorted.
-using HeldLimits = std::span<const std::uint64_t>;
-
-/// Whether a joint row is one the accurate integrator holds: an equality of the bodies' poses
-/// alone (not a motor, drive, a prescribed motion, nor a joint softened by its cfm), or a limit
-/// `held` names.
-bool holdsExactly(const Row& row, const SolverSettings& settings, HeldLimits held = {});
 
 /// Whether a joint row is a limit (of a coordinate, a ball's cone, a rope): phi is its gap, >= 0
 /// where admissible, and J u the gap's rate.
@@ -40,31 +33,62 @@ inline bool isLimit(const Row& row) {
   return row.kind == RowKind::Unilateral;
 }
 
-/// Whether the accurate integrator can take a joint row: one it holds, or a limit (not softened by
-/// its joint's cfm) it may hold.
+/// Whether a joint row is a velocity row: a velocity motor's or joint friction's, a target rate
+/// (its speed) held by a force within a bound (lo < hi; a coordinate force pins lo = hi).
+inline bool isVelocityRow(const Row& row) {
+  return row.kind == RowKind::Motor && row.lo < row.hi;
+}
+
+/// A velocity row's force bound (N or N m) from its impulse bound over the rows' assembly step.
+double velocityBound(const Row& row);
+
+/// The joint rows the accurate integrator switches as they stand (step/row_events): the limits
+/// and velocity rows it holds as equalities, by key (sorted), and the direction (+1 or -1) in
+/// which each velocity row it does not hold pushes with its bound (sorted by key).
+struct Switches {
+  std::span<const std::uint64_t> held;
+  std::span<const std::pair<std::uint64_t, double>> pushing;
+
+  bool holds(std::uint64_t key) const { return std::binary_search(held.begin(), held.end(), key); }
+  /// The direction a velocity row not held pushes in: its listed one, else `otherwise`.
+  double push(std::uint64_t key, double otherwise) const {
+    const auto it = std::lower_bound(pushing.begin(), pushing.end(), std::pair{key, -kInfinity});
+    return it != pushing.end() && it->first == key ? it->second : otherwise;
+  }
+};
+
+/// Whether a joint row is one the accurate integrator holds: an equality of the bodies' poses
+/// alone (not a motor, drive, a prescribed motion, nor a joint softened by its cfm), or a limit
+/// or velocity row `switches` holds.
+bool holdsExactly(const Row& row, const SolverSettings& settings, const Switches& switches = {});
+
+/// Whether the accurate integrator can take a joint row: one it holds, or one it may switch (a
+/// limit not softened by its joint's cfm, a velocity row: events of its steps).
 inline bool mayHold(const Row& row, const SolverSettings& settings) {
-  return holdsExactly(row, settings) || (isLimit(row) && row.cfm <= settings.cfm);
+  return holdsExactly(row, settings) || (isLimit(row) && row.cfm <= settings.cfm) ||
+         isVelocityRow(row);
 }
 
 class ConstrainedDynamics {
  public:
   /// The accelerations of the bodies flagged in `moving` at their current state and `time`: their
   /// rates of linear and angular velocity (world frame) in `dv` and `dw` (one per body; the others
-  /// are left alone), with the limits in `held` as equalities. The joints' rows that act on moving
-  /// bodies must join them only to moving or still bodies.
+  /// are left alone), with the rows `switches` holds as equalities (a velocity row's at its
+  /// target rate) and the velocity rows it does not hold at their bound. The joints' rows that act
+  /// on moving bodies must join them only to moving or still bodies.
   void accelerations(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                      const WorldSettings& settings, std::span<const std::uint8_t> moving,
-                     HeldLimits held, double time, int threads, std::span<Vec3> dv,
+                     const Switches& switches, double time, int threads, std::span<Vec3> dv,
                      std::span<Vec3> dw);
 
-  /// The rows of the last call (the joints' equality rows on moving bodies, the held limits among
-  /// them as equalities, then the coordinate forces) and their forces there (N or N m, positive
-  /// along the row).
+  /// The rows of the last call (the joints' equality rows on moving bodies, the held rows among
+  /// them as equalities, then the coordinate forces and the velocity rows' bounds) and their
+  /// forces there (N or N m, positive along the row).
   std::span<const Row> rows() const { return rows_; }
   std::span<const double> forces() const { return lambda_; }
-  /// The limits of the last call on moving bodies that are not held and within their margin of
-  /// their bound (or past it): phi is the gap.
-  std::span<const Row> openLimits() const { return open_; }
+  /// The switched rows of the last call on moving bodies that are not held: the limits within
+  /// their margin of their bound (or past it; phi is the gap), the velocity rows.
+  std::span<const Row> openRows() const { return open_; }
 
  private:
   /// The joints' rows on moving bodies at the bodies' current state, into rows_: the equalities
@@ -85,8 +109,9 @@ class ConstrainedDynamics {
   void refine(std::size_t equalities);
 
   std::vector<Row> rows_, forces_, open_, slots_, before_, after_;
-  HeldLimits held_;
+  Switches switches_;
   std::vector<double> curvature_, closed_, lambda_, residual_;
+  std::vector<double> target_rate_;  // per equality: a held velocity row's d(target)/dt, else 0
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
   solver::DenseEqualities dense_solver_;
@@ -103,11 +128,14 @@ bool actsAsForce(const Row& row, std::span<const std::unique_ptr<Joint>> joints)
 /// Whether a row acts on a body flagged in `moving` and on no other dynamic or kinematic body.
 bool actsOnMoving(const Row& row, std::span<const std::uint8_t> moving);
 
-/// The joints' rows the accurate integrator holds (holdsExactly, the limits in `held` as
-/// equalities) that act on moving bodies, at the bodies' current poses; `all` is scratch.
+/// The joints' rows the accurate integrator holds (holdsExactly, those `switches` holds as
+/// equalities) that act on moving bodies, at the bodies' current poses; `all` is scratch. With
+/// `targets`: each row's target rate in the velocity projection, its speed for a velocity row
+/// (which has no position), NaN for the others (their target is zero, and they hold a position).
 void gatherEqualities(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
                       const SolverSettings& settings, std::span<const std::uint8_t> moving,
-                      HeldLimits held, double time, std::vector<Row>& all, std::vector<Row>& out);
+                      const Switches& switches, double time, std::vector<Row>& all,
+                      std::vector<Row>& out, std::vector<double>* targets = nullptr);
 
 /// The speed of a row: J u with the bodies' velocities.
 double rowSpeed(const Row& row, std::span<const Body> bodies);

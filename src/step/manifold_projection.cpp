@@ -24,7 +24,7 @@ void ManifoldProjection::solve(const SolverSettings& settings, int threads) {
 
 double ManifoldProjection::project(std::span<const std::unique_ptr<Joint>> joints,
                                    std::span<Body> bodies, const SolverSettings& settings,
-                                   std::span<const std::uint8_t> moving, HeldLimits held,
+                                   std::span<const std::uint8_t> moving, const Switches& switches,
                                    double time, int iterations, double tolerance, int threads) {
   solver_bodies_.resize(bodies.size());
   const auto gatherBodies = [&](bool velocities) {
@@ -37,10 +37,14 @@ double ManifoldProjection::project(std::span<const std::unique_ptr<Joint>> joint
                               : solver::SolverBody{};
     }
   };
-  // Positions: Newton's iterations on phi = 0, the rows assembled afresh at each.
+  // Positions: Newton's iterations on phi = 0, the rows assembled afresh at each (those that hold
+  // a position: not the velocity rows).
   double error = 0.0;
   for (int it = 0;; ++it) {
-    gatherEqualities(joints, bodies, settings, moving, held, time, all_, rows_);
+    gatherEqualities(joints, bodies, settings, moving, switches, time, all_, gathered_, &targets_);
+    rows_.clear();
+    for (std::size_t k = 0; k < gathered_.size(); ++k)
+      if (std::isnan(targets_[k])) rows_.push_back(gathered_[k]);
     error = 0.0;
     for (const Row& r : rows_) error = std::max(error, std::abs(r.phi));
     if (rows_.empty() || error <= tolerance || it == iterations) break;
@@ -50,9 +54,12 @@ double ManifoldProjection::project(std::span<const std::unique_ptr<Joint>> joint
     for (std::size_t i = 0; i < bodies.size(); ++i)
       if (moving[i]) dynamics::displace(bodies[i], solver_bodies_[i].v, solver_bodies_[i].w);
   }
-  // Velocities: onto the tangent at the poses reached (rows_ were gathered there).
-  if (rows_.empty()) return error;
-  for (Row& r : rows_) r.speed = 0.0;
+  // Velocities: onto the tangent at the poses reached (gathered_ there), the velocity rows at
+  // their targets.
+  if (gathered_.empty()) return error;
+  rows_ = gathered_;
+  for (std::size_t k = 0; k < rows_.size(); ++k)
+    rows_[k].speed = std::isnan(targets_[k]) ? 0.0 : targets_[k];
   gatherBodies(true);
   solve(settings, threads);
   for (std::size_t i = 0; i < bodies.size(); ++i) {

@@ -30,21 +30,23 @@ namespace linx::step {
 class ManifoldProjection {
  public:
   /// Projects the poses, then the velocities, of the bodies flagged in `moving` onto the joints'
-  /// equality manifold at `time`, the limits in `held` among the equalities: at most `iterations`
-  /// Newton iterations, stopping once every error is below `tolerance` (m or rad). Returns the
-  /// largest error left (measured before the last iteration's correction when the iterations ran
-  /// out). A held limit that was closing loses its closing rate: a plastic impact.
+  /// equality manifold at `time`, the rows `switches` holds among the equalities: at most
+  /// `iterations` Newton iterations, stopping once every error is below `tolerance` (m or rad).
+  /// Returns the largest error left (measured before the last iteration's correction when the
+  /// iterations ran out). A held limit that was closing loses its closing rate (a plastic impact);
+  /// a held velocity row (which holds no position) takes its target rate.
   double project(std::span<const std::unique_ptr<Joint>> joints, std::span<Body> bodies,
                  const SolverSettings& settings, std::span<const std::uint8_t> moving,
-                 HeldLimits held, double time, int iterations, double tolerance, int threads);
+                 const Switches& switches, double time, int iterations, double tolerance,
+                 int threads);
 
  private:
   /// Solves (J M^-1 J^T) l = target - J u* for the rows, with u* the solver bodies' velocities,
   /// which become u* + M^-1 J^T l.
   void solve(const SolverSettings& settings, int threads);
 
-  std::vector<Row> all_, rows_;
-  std::vector<double> lambda_;
+  std::vector<Row> all_, gathered_, rows_;
+  std::vector<double> targets_, lambda_;
   std::vector<solver::SolverBody> solver_bodies_;
   solver::ExactSolver solver_;
   solver::DenseEqualities dense_;

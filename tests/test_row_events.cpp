@@ -1,7 +1,9 @@
-// Joint limits inside the accurate integrator (docs/integrators.md, "Limits"): a limit met is an
-// event its steps end on, a plastic impact, then an equality while it pushes; it opens where its
-// force falls to zero. Checked against the pendulum's closed form before and after the impact,
-// the free fall's, and static balance on the limit.
+// The rows the accurate integrator switches (docs/integrators.md, "Limits, motors and friction"):
+// a limit met is an event its steps end on, a plastic impact, then an equality while it pushes;
+// it opens where its force falls to zero. A velocity motor or joint friction holds its target
+// rate while its force is within its bound and slips at the bound past it. Checked against the
+// pendulum's closed form before and after an impact, the free fall's, static balance on a limit,
+// a motor's spin-up and its saturation under a growing load, and dry friction's closed forms.
 #include "support.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 namespace linx {
@@ -309,6 +312,174 @@ TEST(LimitEvents, ASavedStateCarriesTheHeldLimits) {
   }
   ASSERT_TRUE(damaged) << "no held limit found in the state";
   EXPECT_THROW(r.world.restoreState(bad), std::invalid_argument);
+}
+
+// A cube (3 kg, 0.4 m, I = m s^2 / 6 about its axis; no gravity) on a hinge, its velocity motor
+// aiming at 3 rad/s with at most 0.5 N m: it spins up at the bound, theta = T t^2 / (2 I), until
+// its rate meets the target at t = 3 I / T = 0.48 s (an event inside a frame), then turns at
+// 3 rad/s exactly, the motor giving no torque.
+TEST(MotorEvents, WheelSpinsUpAtItsBoundThenLocks) {
+  World w(settingsFor(IntegratorType::Accurate, 0.01));
+  w.settings().gravity.setZero();
+  const double m = 3.0, size = 0.4, inertia = m * size * size / 6.0, target = 3.0, torque = 0.5;
+  const BodyId wheel =
+      w.createBody(test::boxBody("wheel", m, Vec3(size, size, size), Vec3::Zero()));
+  const JointId axle = w.createJoint(
+      "hinge",
+      JointDef{.name = "axle", .body1 = wheel, .anchor = Vec3::Zero(), .axis = Vec3::UnitZ()});
+  w.joint(axle).setMotor(JointMotor{.target_velocity = target, .max_force = torque});
+  const double lock = target * inertia / torque;
+  const auto exact = [&](double t) {
+    return t < lock ? 0.5 * torque / inertia * t * t
+                    : 0.5 * torque / inertia * lock * lock + target * (t - lock);
+  };
+  double worst = 0.0, after = 0.0;
+  int events = 0;
+  while (w.time() < 1.0 - 1e-9) {
+    w.step();
+    events += eventsOf(w);
+    worst = std::max(worst, std::abs(w.jointCoordinates(axle)[0] - exact(w.time())));
+    if (w.time() > lock) after = std::max(after, w.jointReaction(axle).torque.norm());
+  }
+  std::printf(
+      "spin-up: %.3g rad off the closed form, rate %.15f, torque after the lock %.3g N m, "
+      "events %d\n",
+      worst, w.body(wheel).angularVelocity().z(), after, events);
+  EXPECT_LT(worst, 1e-10);
+  EXPECT_NEAR(w.body(wheel).angularVelocity().z(), target, 1e-12);
+  EXPECT_LT(after, 1e-9);
+  EXPECT_EQ(events, 1);  // locked at 0.48 s
+}
+
+// A hanging rod turned up at 0.5 rad/s by a velocity motor of at most half its weight's largest
+// torque: locked, theta = w t and the motor gives m g d sin(theta), until that reaches the bound
+// at theta* = 30 degrees (t* = pi / 3 s); there it slips, I_p theta'' = F - m g d sin(theta),
+// which fine fourth-order Runge-Kutta follows from (theta*, w), for 1.4 s (the rod swings back
+// through theta* before its rate meets the target again).
+TEST(MotorEvents, ArmLiftedAtConstantRateSlipsWhereGravityOutweighsTheMotor) {
+  const double rate = 0.5;
+  Rod r = makeRod(settingsFor(IntegratorType::Accurate, 0.01), true, rate);
+  const double d = 0.5 * r.length, weight = r.mass * kG * d, bound = 0.5 * weight;
+  const double ip = r.pivotInertia();
+  r.world.joint(r.hinge).setMotor(JointMotor{.target_velocity = rate, .max_force = bound});
+  const double slip_angle = std::asin(bound / weight), slip_time = slip_angle / rate;
+  double theta = slip_angle, theta_rate = rate, t_ref = slip_time;  // the reference after t*
+  const auto advanceTo = [&](double t) {
+    const auto acc = [&](double q) { return (bound - weight * std::sin(q)) / ip; };
+    while (t_ref < t - 1e-12) {
+      const double h = std::min(1e-5, t - t_ref);
+      const double k1q = theta_rate, k1v = acc(theta);
+      const double k2q = theta_rate + 0.5 * h * k1v, k2v = acc(theta + 0.5 * h * k1q);
+      const double k3q = theta_rate + 0.5 * h * k2v, k3v = acc(theta + 0.5 * h * k2q);
+      const double k4q = theta_rate + h * k3v, k4v = acc(theta + h * k3q);
+      theta += h / 6 * (k1q + 2 * k2q + 2 * k3q + k4q);
+      theta_rate += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      t_ref += h;
+    }
+  };
+  double locked_error = 0.0, torque_error = 0.0, slipping_error = 0.0, highest = 0.0;
+  // (torque_error: frames wholly before t*)
+  int events = 0;
+  while (r.world.time() < slip_time + 1.4 - 1e-9) {
+    r.world.step();
+    events += eventsOf(r.world);
+    const double t = r.world.time(), a = angle(r);
+    highest = std::max(highest, a);
+    if (t < slip_time) {
+      locked_error = std::max(locked_error, std::abs(a - rate * t));
+      // The motor's torque about the axis on the rod holds its weight's, m g d sin(theta), on
+      // the mean over the frame (what a joint reports): m g d (cos theta0 - cos theta1) / (w h).
+      const double h = r.world.settings().timestep, before = rate * (t - h);
+      const double mean = weight * (std::cos(before) - std::cos(rate * t)) / (rate * h);
+      torque_error =
+          std::max(torque_error, std::abs(r.world.jointReaction(r.hinge).torque.y() - mean));
+    } else {
+      advanceTo(t);
+      slipping_error = std::max(slipping_error, std::abs(a - theta));
+    }
+  }
+  std::printf(
+      "lifted: locked %.3g rad off w t, motor torque %.3g N m off m g d sin(theta); "
+      "slipping from t* = %.6f s %.3g rad off the reference; highest %.6f rad; events "
+      "%d\n",
+      locked_error, torque_error, slip_time, slipping_error, highest, events);
+  EXPECT_LT(locked_error, 1e-10);
+  EXPECT_LT(torque_error, 1e-8);
+  EXPECT_LT(slipping_error, 1e-7);        // the slip's start within about 1e-7 s
+  EXPECT_GT(highest, slip_angle + 0.05);  // it swung on past theta*
+  EXPECT_EQ(events, 2);  // locked at the start (its rate on the target), slipping at t*
+}
+
+// Joint friction (a velocity row aiming at zero) under the accurate integrator, against the
+// closed forms test_joint_friction checks with the step: a 2 kg block on a rail tilted along
+// (1, 0, 2) with 5 N of friction slides at a = -g cos(a) + f / m (s = a t^2 / 2, the motion's
+// own); with 30 N it is held and the joint carries its weight; a cube spun at 3 rad/s on an axle
+// with 0.2 N m of friction stops at t = I w0 / T after turning I w0^2 / (2 T), and stays.
+TEST(FrictionEvents, DryFrictionSlidesHoldsAndStopsAtTheClosedForms) {
+  const auto rail = [&](const Vec3& axis, double friction) {
+    World w(settingsFor(IntegratorType::Accurate, 0.01));
+    const BodyId block =
+        w.createBody(test::boxBody("block", 2.0, Vec3(0.1, 0.1, 0.1), Vec3(0, 0, 1)));
+    const JointId slider =
+        w.createJoint("slider", JointDef{.name = "rail",
+                                         .body1 = block,
+                                         .axis = axis,
+                                         .coordinates = {CoordinateDef{.friction = friction}}});
+    return std::pair{std::move(w), slider};
+  };
+  {
+    const Vec3 axis = Vec3(1, 0, 2).normalized();
+    auto [w, slider] = rail(axis, 5.0);
+    const double a = -kG * axis.z() + 5.0 / 2.0;
+    double worst = 0.0;
+    while (w.time() < 1.0 - 1e-9) {
+      w.step();
+      worst =
+          std::max(worst, std::abs(w.jointCoordinates(slider)[0] - 0.5 * a * w.time() * w.time()));
+    }
+    std::printf("sliding: %.3g m off a t^2 / 2\n", worst);
+    EXPECT_LT(worst, 1e-12);
+  }
+  {
+    auto [w, slider] = rail(Vec3::UnitZ(), 30.0);
+    for (int n = 0; n < 100; ++n) w.step();
+    std::printf("held at %.3g m, reaction %.12f N\n", w.jointCoordinates(slider)[0],
+                w.jointReaction(slider).force.z());
+    EXPECT_LT(std::abs(w.jointCoordinates(slider)[0]), 1e-12);
+    EXPECT_NEAR(w.jointReaction(slider).force.z(), 2.0 * kG, 1e-9);
+  }
+  {
+    World w(settingsFor(IntegratorType::Accurate, 0.01));
+    w.settings().gravity.setZero();
+    const double m = 3.0, size = 0.4, inertia = m * size * size / 6.0, w0 = 3.0, torque = 0.2;
+    BodyDef def = test::boxBody("wheel", m, Vec3(size, size, size), Vec3::Zero());
+    def.angular_velocity = Vec3(0, 0, w0);
+    const BodyId wheel = w.createBody(def);
+    const JointId axle =
+        w.createJoint("hinge", JointDef{.name = "axle",
+                                        .body1 = wheel,
+                                        .anchor = Vec3::Zero(),
+                                        .axis = Vec3::UnitZ(),
+                                        .coordinates = {CoordinateDef{.friction = torque}}});
+    const double stop = inertia * w0 / torque, turned = inertia * w0 * w0 / (2.0 * torque);
+    double worst = 0.0;
+    int events = 0;
+    while (w.time() < stop + 0.5 - 1e-9) {
+      w.step();
+      events += eventsOf(w);
+      const double t = std::min(w.time(), stop);
+      worst = std::max(
+          worst, std::abs(w.jointCoordinates(axle)[0] - (w0 * t - 0.5 * torque / inertia * t * t)));
+    }
+    std::printf(
+        "spun down: %.3g rad off w0 t - T t^2 / (2 I), stopped after %.12f rad (%.12f), "
+        "rate %.3g, events %d\n",
+        worst, w.jointCoordinates(axle)[0], turned, w.body(wheel).angularVelocity().norm(), events);
+    EXPECT_LT(worst, 1e-10);
+    EXPECT_NEAR(w.jointCoordinates(axle)[0], turned, 1e-10);
+    EXPECT_LT(w.body(wheel).angularVelocity().norm(), 1e-12);
+    EXPECT_EQ(events, 1);  // locked at the stop
+  }
 }
 
 }  // namespace
