@@ -21,9 +21,11 @@ bool hasPath(const Result& r) {
 }
 
 /// The figure a row is judged by: its distance from the known path where the scene has one, else
-/// its energy drift relative to the energy exchanged; NaN when it did not run every step.
+/// its energy drift relative to the energy exchanged; NaN when it did not run every step or blew up
+/// (a NaN pose: the path then has no point compared, and the energy must not stand in for it).
 double error(const Result& r) {
   if (!r.ran || r.steps < r.steps_planned) return NAN;
+  if (r.has_accuracy && std::isnan(r.accuracy)) return NAN;
   return hasPath(r) ? r.accuracy : r.energy_drift / 100.0;
 }
 

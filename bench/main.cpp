@@ -68,7 +68,8 @@ std::vector<SceneEntry> integratorSceneList() {
           {"a02-four-bar", [] { return fourBarA02(20.0); }, 81},
           {"heavy-top", [] { return heavyTop(5.0); }, 1},
           {"chain", [] { return swingingChain(10.0); }, 5},
-          {"spatial-slider-crank", [] { return spatialSliderCrank(10.0); }, 3}};
+          {"spatial-slider-crank", [] { return spatialSliderCrank(10.0); }, 3},
+          {"a05-flyball-governor", [] { return flyballGovernorA05(10.0); }, 4}};
 }
 
 /// The model-file cases wanted, each run by every engine wanted (model_files.hpp); a case whose
@@ -129,10 +130,12 @@ int main(int argc, char** argv) {
          "Scenes to run (default all): chain, heavy-chain, pyramid, spheres, slider-crank, "
          "ragdolls, and the model files humanoid, 22_humanoids (MuJoCo's samples, from "
          "libmujoco-samples) and four_bar (examples/robots), each run as it is; with "
-         "--integrators: a01-pendulum, a02-four-bar, heavy-top, chain, spatial-slider-crank")
-      ->check(CLI::IsMember({"chain", "heavy-chain", "pyramid", "spheres", "slider-crank",
-                             "ragdolls", "humanoid", "22_humanoids", "four_bar", "a01-pendulum",
-                             "a02-four-bar", "heavy-top", "spatial-slider-crank"}));
+         "--integrators: a01-pendulum, a02-four-bar, heavy-top, chain, spatial-slider-crank, "
+         "a05-flyball-governor")
+      ->check(
+          CLI::IsMember({"chain", "heavy-chain", "pyramid", "spheres", "slider-crank", "ragdolls",
+                         "humanoid", "22_humanoids", "four_bar", "a01-pendulum", "a02-four-bar",
+                         "heavy-top", "spatial-slider-crank", "a05-flyball-governor"}));
   app.add_option("--engine", engine_names,
                  "Engines to run (default every one built): linx, ode, bullet, mujoco, dart, "
                  "simbody (--integrators only)")
@@ -161,7 +164,8 @@ int main(int argc, char** argv) {
   app.add_flag("--integrators", integrators,
                "Instead of the table and targets, the integrator table: error against time on "
                "the mechanisms IFToMM A01 (pendulum, 100 s), A02 (N-four-bar, 20 s), the heavy "
-               "top (5 s), a 5-link chain (10 s) and a spatial slider-crank (10 s), for linx's "
+               "top (5 s), a 5-link chain (10 s), a spatial slider-crank (10 s) and A05 (the stiff "
+               "flyball governor, 10 s), for linx's "
                "step and its accurate integrator "
                "at tolerances 1e-6 to 1e-12, MuJoCo's Euler, implicit and RK4 integrators at h "
                "and smaller steps, Simbody's error-controlled integrators and ODE's dWorldStep")

@@ -59,6 +59,17 @@ struct Joint {
   std::optional<Motor> motor = std::nullopt;
 };
 
+/// A spring and damper between a point of each of two bodies (-1: the world): its tension
+/// stiffness (d - rest) + damping d' pulls the points together along the line between them, d
+/// their distance.
+struct Spring {
+  int body1 = -1, body2 = -1;  ///< indices into Scene::bodies; -1 is the world
+  Vec3 anchor1 = Vec3::Zero(), anchor2 = Vec3::Zero();  ///< the points, world frame at creation (m)
+  double stiffness = 0.0;                               ///< (N/m)
+  double damping = 0.0;                                 ///< (N s/m)
+  double rest = 0.0;                                    ///< (m)
+};
+
 /// What "accuracy" means for a scene; see metrics.hpp.
 enum class Metric {
   JointSeparation,  ///< largest distance between a joint's two anchor points (m)
@@ -89,6 +100,9 @@ struct Scene {
   std::optional<double> ground_z = std::nullopt;  ///< an infinite plane z = ground_z, normal +z
   std::vector<Body> bodies;
   std::vector<Joint> joints;
+  /// Only the integrator table's engines (linx, MuJoCo, Simbody, ODE) build them; the others
+  /// refuse a scene that has any.
+  std::vector<Spring> springs;
   Metric metric = Metric::JointSeparation;
   /// Whether the table shows the energy figure (metrics.hpp): set on scenes whose total energy,
   /// kinetic plus gravitational potential, stays constant in exact dynamics (no contacts, nothing

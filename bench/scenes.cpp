@@ -1,5 +1,6 @@
 #include "scenes.hpp"
 
+#include "flyball_governor.hpp"
 #include "jacobi_sn.hpp"
 #include "spatial_slider_crank.hpp"
 
@@ -481,6 +482,91 @@ Scene spatialSliderCrank(double duration) {
                            std::abs(time - n * h) > 1e-9)
                          return std::nullopt;
                        return slider_crank::pin((*angles)[static_cast<std::size_t>(n)]);
+                     }};
+  return s;
+}
+
+Scene flyballGovernorA05(double duration) {
+  namespace fb = flyball;
+  Scene s;
+  s.name = "IFToMM A05 flyball governor";
+  s.size = "4 bodies";
+  s.timestep = 0.01;
+  s.steps = stepsOf(duration, s.timestep);
+  s.gravity = Vec3(0.0, 0.0, -fb::kG);
+  s.metric = Metric::PathError;
+  const Vec3 spin(0.0, 0.0, fb::kStartRate);
+  const auto turning = [&](Body b) {
+    b.angular_velocity = spin;
+    b.velocity = spin.cross(b.position);
+    return b;
+  };
+  s.bodies.push_back(
+      turning(Body{.name = "shaft",
+                   .mass = fb::kBarMass,
+                   .inertia = Vec3(fb::kBarMass / 12.0 * (1.0 + 1e-4),
+                                   fb::kBarMass / 12.0 * (1.0 + 1e-4), fb::kShaftAxial),
+                   .position = Vec3(0.0, 0.0, 0.5)}));
+  s.bodies.push_back(turning(Body{.name = "slider",
+                                  .mass = fb::kSliderMass,
+                                  .inertia = Vec3::Constant(fb::kSliderAxial),
+                                  .position = Vec3(0.0, 0.0, fb::kStartHeight)}));
+  for (const int side : {1, -1}) {  // each rod with its ball: its body z along the rod
+    const Vec3 u = fb::along(side, fb::kStartAngle);
+    s.bodies.push_back(
+        turning(Body{.name = side > 0 ? "rod_a" : "rod_b",
+                     .mass = fb::kRodMass,
+                     .inertia = Vec3(fb::kRodTransverse, fb::kRodTransverse, fb::kRodAxial),
+                     .position = fb::pivot(side) + fb::kRodCentre * u,
+                     .orientation = Quat::FromTwoVectors(Vec3::UnitZ(), u)}));
+  }
+  s.joints.push_back(Joint{.kind = Joint::Kind::Hinge,
+                           .body1 = -1,
+                           .body2 = 0,
+                           .anchor = Vec3::Zero(),
+                           .axis = Vec3::UnitZ()});
+  s.joints.push_back(Joint{.kind = Joint::Kind::Slider,
+                           .body1 = 0,
+                           .body2 = 1,
+                           .anchor = Vec3(0.0, 0.0, fb::kStartHeight),
+                           .axis = Vec3::UnitZ()});
+  for (const int side : {1, -1}) {
+    const int rod = side > 0 ? 2 : 3;
+    s.joints.push_back(Joint{.kind = Joint::Kind::Hinge,
+                             .body1 = 0,
+                             .body2 = rod,
+                             .anchor = fb::pivot(side),
+                             .axis = Vec3::UnitY()});
+    s.springs.push_back(Spring{.body1 = rod,
+                               .body2 = 1,
+                               .anchor1 = fb::rodEnd(side, fb::kStartAngle),
+                               .anchor2 = fb::sliderEnd(side, fb::kStartHeight),
+                               .stiffness = fb::kStiffness,
+                               .damping = fb::kDamping,
+                               .rest = fb::kRest});
+  }
+  // The slider's height at every step from the reduced-coordinate solution (RK4 at 1e-5 s),
+  // computed once per duration.
+  static std::map<std::int64_t, std::shared_ptr<const std::vector<double>>> computed;
+  std::shared_ptr<const std::vector<double>>& heights = computed[s.steps];
+  if (!heights) {
+    const fb::Reference reference;
+    fb::State x;
+    auto z = std::make_shared<std::vector<double>>(1, x.s);
+    for (std::int64_t n = 1; n <= s.steps; ++n) {
+      reference.advance(x, s.timestep, 1e-5);
+      z->push_back(x.s);
+    }
+    heights = z;
+  }
+  const double h = s.timestep;
+  s.path = KnownPath{1, Vec3::Zero(), "reduced-coordinate solution",
+                     [heights, h](double time) -> std::optional<Vec3> {
+                       const auto n = static_cast<std::int64_t>(std::llround(time / h));
+                       if (n < 0 || n >= static_cast<std::int64_t>(heights->size()) ||
+                           std::abs(time - n * h) > 1e-9)
+                         return std::nullopt;
+                       return Vec3(0.0, 0.0, (*heights)[static_cast<std::size_t>(n)]);
                      }};
   return s;
 }

@@ -49,5 +49,11 @@ Scene swingingChain(double duration);
 /// 30 degrees up; h = 0.01 s. The crank pin against Lagrange's equation in the crank angle
 /// (one_dof_reference.hpp); energy conserved.
 Scene spatialSliderCrank(double duration);
+/// IFToMM A05, the stiff flyball governor of bench/flyball_governor.hpp (as
+/// examples/benchmarks/iftomm_a05_flyball_governor.json, less the slider's travel limits, which it
+/// never reaches and Simbody's adapter does not take), turning at 2 pi rad/s at the start; h =
+/// 0.01 s. The slider's centre against the reduced-coordinate solution; energy not conserved (the
+/// dampers).
+Scene flyballGovernorA05(double duration);
 
 }  // namespace bench

@@ -213,6 +213,7 @@ class BulletEngine final : public Engine {
  public:
   BulletEngine(const Scene& scene, bool featherstone, int iterations = kDefaultIterations)
       : scene_(scene), h_(scene.timestep) {
+    if (!scene.springs.empty()) throw Unsupported("Bullet: the scene's springs are not mapped");
     if (scene.bodies.size() > kMaxBodies) {
       throw Unsupported(
           "Bullet: more than 20,000 bodies; with its default btDbvtBroadphase, 64,000 poured "

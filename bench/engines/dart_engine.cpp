@@ -120,6 +120,7 @@ Eigen::Isometry3d isometry(const Vec3& position, const Quat& orientation) {
 
 /// Checks what the adapter cannot build, before any DART object exists.
 void checkFeatures(const Scene& scene, const SceneTree& tree) {
+  if (!scene.springs.empty()) throw Unsupported("DART: the scene's springs are not mapped");
   for (const Body& b : scene.bodies) {
     if (b.shape.kind == Shape::Kind::Capsule) {
       throw Unsupported(

@@ -94,6 +94,18 @@ class LinxEngine final : public Engine {
             linx::JointMotor{sign * j.motor->target_velocity, j.motor->max_force};
       world_.createJoint(typeName(j.kind), def);
     }
+    for (const Spring& sp : scene.springs) {  // linx's spring joint: body1 must be a body
+      const bool swap = sp.body1 < 0;
+      linx::JointDef def;
+      def.name = std::to_string(world_.jointCount()).insert(0, "spring");
+      def.body1 = ids_[swap ? sp.body2 : sp.body1];
+      const int other = swap ? sp.body1 : sp.body2;
+      def.body2 = other < 0 ? linx::kWorldBody : ids_[other];
+      def.anchor = swap ? sp.anchor2 : sp.anchor1;
+      def.anchor2 = swap ? sp.anchor1 : sp.anchor2;
+      def.coordinates[0].spring = linx::JointSpring{sp.stiffness, sp.damping, sp.rest};
+      world_.createJoint("spring", def);
+    }
   }
 
   void step() override { world_.step(); }

@@ -65,6 +65,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -150,6 +151,7 @@ class Writer {
       joint(v, xml);
     }
     geom(b.shape, xml);
+    sites(v, xml);
     for (int c : tree_.children[vi]) body(c, level + 1, xml);
     xml += "</body>";
   }
@@ -175,6 +177,42 @@ class Writer {
     xml += "/>";
   }
 
+  /// A site at each end of a spring on body v (-1: the world), named s<spring>a / s<spring>b, in
+  /// the body's frame.
+  void sites(int v, std::string& xml) const {
+    for (std::size_t k = 0; k < scene_.springs.size(); ++k) {
+      const Spring& sp = scene_.springs[k];
+      for (const auto& [body, point, end] :
+           {std::tuple{sp.body1, sp.anchor1, 'a'}, std::tuple{sp.body2, sp.anchor2, 'b'}}) {
+        if (body != v) continue;
+        Vec3 local = point;
+        if (v >= 0) {
+          const Body& b = scene_.bodies[static_cast<std::size_t>(v)];
+          local = b.orientation.normalized().conjugate() * (point - b.position);
+        }
+        xml += "<site name='s" + std::to_string(k) + end + "' pos='" + vec(local) + "'/>";
+      }
+    }
+  }
+
+ public:
+  /// The springs as spatial tendons between their sites: MuJoCo's passive tendon force
+  /// -stiffness (length - springlength) - damping length'.
+  void tendons(std::string& xml) const {
+    if (scene_.springs.empty()) return;
+    xml += "<tendon>";
+    for (std::size_t k = 0; k < scene_.springs.size(); ++k) {
+      const Spring& sp = scene_.springs[k];
+      const std::string n = std::to_string(k);
+      xml += "<spatial name='t" + n + "' stiffness='" + num(sp.stiffness) + "' damping='" +
+             num(sp.damping) + "' springlength='" + num(sp.rest) + "'><site site='s" + n +
+             "a'/><site site='s" + n + "b'/></spatial>";
+    }
+    xml += "</tendon>";
+  }
+  void worldSites(std::string& xml) const { sites(-1, xml); }
+
+ private:
   static void geom(const Shape& s, std::string& xml) {
     switch (s.kind) {
       case Shape::Kind::None:
@@ -446,8 +484,10 @@ MujocoEngine::MujocoEngine(const Scene& scene, const Options& options)
     xml += "<geom name='ground' type='plane' size='0 0 1' pos='0 0 " + num(*scene.ground_z) + "'/>";
   }
   Writer writer(scene, tree, mjcf);
+  writer.worldSites(xml);
   for (int r : tree.roots) writer.body(r, 0, xml);
   xml += "</worldbody>";
+  writer.tendons(xml);
   if (!exclude.empty()) xml += "<contact>" + exclude + "</contact>";
   if (!equality.empty()) xml += "<equality>" + equality + "</equality>";
   if (!actuator.empty()) xml += "<actuator>" + actuator + "</actuator>";

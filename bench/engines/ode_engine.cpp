@@ -28,6 +28,7 @@
 #include <ode/ode.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -149,6 +150,9 @@ void checkDenseSize(const Scene& s) {
   }
 }
 
+/// A body rate (m/s or rad/s) no scene reaches: past it a run has blown up.
+constexpr double kBlownUpSpeed = 1e6;
+
 class OdeEngine final : public Engine {
  public:
   /// quick: dWorldQuickStep at `iterations`; otherwise dWorldStep. Each step() is `substeps`
@@ -177,6 +181,21 @@ class OdeEngine final : public Engine {
   std::vector<Pose> fixed_;                    // poses of static bodies
   std::vector<int> index_;                     // geom data: the scene body index
   std::vector<std::pair<int, int>> excluded_;  // (static, dynamic) pairs joined by a joint, sorted
+  /// The scene's springs, each end in its body's frame (the world's for the world, or a static
+  /// body's end, held at its world point): ODE has none, so step() applies their forces.
+  struct SpringEnd {
+    dBodyID body = nullptr;
+    Vec3 point = Vec3::Zero();
+  };
+  struct OdeSpring {
+    SpringEnd a, b;
+    double stiffness = 0.0, damping = 0.0, rest = 0.0;
+  };
+  std::vector<OdeSpring> springs_;
+  void applySprings();
+  /// Whether a body's rate passed kBlownUpSpeed (or is not finite).
+  bool blownUp() const;
+  bool diverged_ = false;
 };
 
 OdeEngine::OdeEngine(const Scene& scene, bool quick, int iterations, int substeps)
@@ -189,6 +208,7 @@ OdeEngine::OdeEngine(const Scene& scene, bool quick, int iterations, int substep
   index_.resize(n);
   std::iota(index_.begin(), index_.end(), 0);
   excluded_.reserve(2 * scene.joints.size());
+  springs_.reserve(scene.springs.size());
   // QuickStep reorders its constraints with ODE's global generator every 8 iterations: restart it,
   // so that a run does not depend on what ran before it in the process.
   dRandSetSeed(0);
@@ -238,6 +258,21 @@ OdeEngine::OdeEngine(const Scene& scene, bool quick, int iterations, int substep
                        b.angular_velocity.z());
     if (g) dGeomSetBody(g, body);
     bodies_[i] = body;
+  }
+  for (const Spring& sp : scene.springs) {
+    const auto end = [&](int i, const Vec3& point) {
+      SpringEnd e;
+      e.body = i >= 0 ? bodies_[static_cast<std::size_t>(i)] : nullptr;
+      e.point = point;
+      if (e.body) {
+        dVector3 local;
+        dBodyGetPosRelPoint(e.body, point.x(), point.y(), point.z(), local);
+        e.point = Vec3(local[0], local[1], local[2]);
+      }
+      return e;
+    };
+    springs_.push_back(
+        {end(sp.body1, sp.anchor1), end(sp.body2, sp.anchor2), sp.stiffness, sp.damping, sp.rest});
   }
   if (scene.ground_z) {
     dGeomID plane = dCreatePlane(space_, 0, 0, 1, *scene.ground_z);
@@ -340,8 +375,56 @@ void OdeEngine::collide(dGeomID a, dGeomID b) {
   }
 }
 
+/// Each spring's tension k (d - rest) + c d' at the bodies' state, at its two points (explicit,
+/// as ODE's own forces are: held for the step).
+void OdeEngine::applySprings() {
+  const auto at = [](const SpringEnd& e, Vec3& x, Vec3& v) {
+    if (!e.body) {
+      x = e.point;
+      v.setZero();
+      return;
+    }
+    dVector3 p, u;
+    dBodyGetRelPointPos(e.body, e.point.x(), e.point.y(), e.point.z(), p);
+    dBodyGetRelPointVel(e.body, e.point.x(), e.point.y(), e.point.z(), u);
+    x = Vec3(p[0], p[1], p[2]);
+    v = Vec3(u[0], u[1], u[2]);
+  };
+  for (const OdeSpring& s : springs_) {
+    Vec3 xa, va, xb, vb;
+    at(s.a, xa, va);
+    at(s.b, xb, vb);
+    const Vec3 d = xb - xa;
+    const double length = d.norm();
+    if (!(length > 0.0)) continue;
+    const Vec3 n = d / length;
+    const Vec3 f = (s.stiffness * (length - s.rest) + s.damping * n.dot(vb - va)) * n;
+    if (s.a.body) dBodyAddForceAtPos(s.a.body, f.x(), f.y(), f.z(), xa.x(), xa.y(), xa.z());
+    if (s.b.body) dBodyAddForceAtPos(s.b.body, -f.x(), -f.y(), -f.z(), xb.x(), xb.y(), xb.z());
+  }
+}
+
+bool OdeEngine::blownUp() const {
+  for (const dBodyID b : bodies_) {
+    if (!b) continue;
+    const dReal* v = dBodyGetLinearVel(b);
+    const dReal* w = dBodyGetAngularVel(b);
+    for (int k = 0; k < 3; ++k)
+      if (!(std::abs(v[k]) < kBlownUpSpeed && std::abs(w[k]) < kBlownUpSpeed)) return true;
+  }
+  return false;
+}
+
 void OdeEngine::step() {
+  if (diverged_) return;
   for (int k = 0; k < substeps_; ++k) {
+    // ODE aborts the process (an internal assertion) on a quaternion its growing rates have made
+    // non-finite: a run that has blown up stops first, its poses NaN from then on.
+    if (blownUp()) {
+      diverged_ = true;
+      return;
+    }
+    applySprings();
     dSpaceCollide(space_, this, &OdeEngine::nearCallback);
     if (quick_) {
       dWorldQuickStep(world_, h_);
@@ -355,6 +438,7 @@ void OdeEngine::step() {
 Pose OdeEngine::pose(int i) const {
   const dBodyID b = bodies_.at(i);
   if (!b) return fixed_[i];
+  if (diverged_) return Pose{Vec3::Constant(NAN), Quat(NAN, NAN, NAN, NAN)};
   const dReal* p = dBodyGetPosition(b);
   const dReal* q = dBodyGetQuaternion(b);
   return Pose{Vec3(p[0], p[1], p[2]), Quat(q[0], q[1], q[2], q[3])};
@@ -365,6 +449,7 @@ Pose OdeEngine::pose(int i) const {
 Twist OdeEngine::velocity(int i) const {
   const dBodyID b = bodies_.at(i);
   if (!b) return Twist{};
+  if (diverged_) return Twist{Vec3::Constant(NAN), Vec3::Constant(NAN)};
   const dReal* v = dBodyGetLinearVel(b);
   const dReal* w = dBodyGetAngularVel(b);
   return Twist{Vec3(v[0], v[1], v[2]), Vec3(w[0], w[1], w[2])};

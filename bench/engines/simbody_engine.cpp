@@ -29,7 +29,9 @@
 //   ("Unable to advance time past ..."): the run fails with that note. (Projecting after every
 //   step, setProjectEveryStep(true), which is not Simbody's default, got RK Merson at 1e-8
 //   through A02's 20 s, 9e-5 m from the published positions, in 160 s.)
-// - gravity is a Force::UniformGravity (GeneralForceSubsystem); nothing else acts (no damping).
+// - gravity is a Force::UniformGravity (GeneralForceSubsystem); a spring a
+//   Force::TwoPointLinearSpring and a Force::TwoPointLinearDamper between its points; nothing else
+//   acts.
 // - initial velocities: each mobilizer's u is fitted to the child's spatial velocity relative to
 //   its parent at the joint, in F (setUToFit*Velocity); then the state is projected onto the
 //   constraints (System::project) and the bodies' velocities are checked against the scene's.
@@ -236,6 +238,15 @@ SimbodyEngine::SimbodyEngine(const Scene& scene, const Options& options)
   for (int i : order) addMobilizer(i);
   for (int j : tree_.closures) addClosure(j);
   SimTK::Force::UniformGravity(forces_, matter_, toSimTK(scene.gravity));
+  for (const Spring& sp : scene.springs) {  // the tension k (d - rest) + c d' as two elements
+    SimTK::MobilizedBody& b1 = mobilizedBody(sp.body1);
+    SimTK::MobilizedBody& b2 = mobilizedBody(sp.body2);
+    const SimTK::Vec3 s1 = pointIn(bodyOf(sp.body1), sp.anchor1);
+    const SimTK::Vec3 s2 = pointIn(bodyOf(sp.body2), sp.anchor2);
+    if (sp.stiffness > 0.0)
+      SimTK::Force::TwoPointLinearSpring(forces_, b1, s1, b2, s2, sp.stiffness, sp.rest);
+    if (sp.damping > 0.0) SimTK::Force::TwoPointLinearDamper(forces_, b1, s1, b2, s2, sp.damping);
+  }
 
   system_.realizeTopology();
   SimTK::State state = system_.getDefaultState();  // q = 0: the scene's poses
