@@ -208,9 +208,7 @@ TEST(Hinge, AngleCountsTurnsAndLimitsMayLieBeyondHalfATurn) {
   // Driven at 2 rad/s for 2 s: 4 rad, past pi, read continuously.
   p.world.joint(p.hinge).setMotor(JointMotor{.target_velocity = 2.0, .max_force = 1e4});
   for (int i = 0; i < 2000; ++i) p.world.step();
-  // (Under "auto" the spin-up's frame takes the step, the rest the accurate integrator: the
-  // switch costs about (2 rad/s h)^3 = 8e-9 rad.)
-  EXPECT_NEAR(p.world.jointCoordinates(p.hinge)[0], 4.0, 1e-8);
+  EXPECT_NEAR(p.world.jointCoordinates(p.hinge)[0], 4.0, 1e-9);
   // Backwards through zero to -7 rad (more than a turn), then stopped by a limit at -6.5 rad.
   p.world.joint(p.hinge).setMotor(JointMotor{.target_velocity = -4.0, .max_force = 1e4});
   p.world.joint(p.hinge).setLimits(JointLimits{.lower = -6.5, .upper = 10.0});

@@ -54,18 +54,18 @@ int AccurateIntegrator::select(std::span<const std::unique_ptr<Joint>> joints,
                                std::span<const Body> bodies, std::span<const Row> rows,
                                std::size_t joint_rows, const Islands& islands,
                                std::span<const std::uint8_t> island_awake,
-                               const SolverSettings& settings, bool jointed_only,
+                               const SolverSettings& settings, bool trying,
                                std::vector<std::uint8_t>& accurate) {
-  // 1: it may; 0: it may not; 2: it may once a joint row shows it is jointed (jointed_only).
-  island_ok_.assign(static_cast<std::size_t>(islands.count()), jointed_only ? 2 : 1);
+  // 1: it may; 0: it may not; 2: it may once a joint row shows it is jointed (trying).
+  island_ok_.assign(static_cast<std::size_t>(islands.count()), trying ? 2 : 1);
   for (std::size_t i = 0; i < island_ok_.size(); ++i)
     if (!island_awake.empty() && island_awake[i] == 0) island_ok_[i] = 0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
     bool kinematic = false;
     const int island = islandOf(rows[k], bodies, islands, kinematic);
     if (island < 0) continue;
-    const bool held =
-        k < joint_rows && (mayHold(rows[k], settings) || actsAsForce(rows[k], joints));
+    const bool held = k < joint_rows && !(trying && isVelocityRow(rows[k])) &&
+                      (mayHold(rows[k], settings) || actsAsForce(rows[k], joints));
     std::uint8_t& ok = island_ok_[static_cast<std::size_t>(island)];
     if (!held || kinematic)
       ok = 0;

@@ -64,14 +64,16 @@ class AccurateIntegrator {
   /// dynamic bodies whose rows are all joint equalities it holds (holdsExactly), rows it switches
   /// (mayHold: limits, velocity motors and joint friction, events of its steps, step/row_events)
   /// or rows it applies as forces (actsAsForce: coordinate forces, springs, servos); an island
-  /// with a contact, armature, a prescribed motion or a joint to a kinematic body takes the step;
-  /// with
-  /// `jointed_only`, so does an island without a joint row (a free body). The first `joint_rows`
-  /// rows are the joints'. Returns how many bodies it flagged.
+  /// with a contact, armature, a prescribed motion or a joint to a kinematic body takes the step.
+  /// With `trying` (integrator "auto"), so does an island without a joint row (a free body: the
+  /// step keeps its energy already) and one with a velocity row (a velocity motor, joint
+  /// friction: driven or dissipative motion, which one accurate step a frame buys little of, at 2
+  /// to 3 times the step's cost: a motor-driven slider-crank 2.9 times, measured). The first
+  /// `joint_rows` rows are the joints'. Returns how many bodies it flagged.
   int select(std::span<const std::unique_ptr<Joint>> joints, std::span<const Body> bodies,
              std::span<const Row> rows, std::size_t joint_rows, const Islands& islands,
              std::span<const std::uint8_t> island_awake, const SolverSettings& settings,
-             bool jointed_only, std::vector<std::uint8_t>& accurate);
+             bool trying, std::vector<std::uint8_t>& accurate);
 
   /// Moves the flagged bodies from their state at `time` to time + h. Writes each of `rows`' share
   /// of the joints' impulses over the frame into `lambda`, and its mean direction over the frame
