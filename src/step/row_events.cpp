@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <utility>
 
 namespace linx::step {
 
@@ -136,15 +137,22 @@ void RowEvents::settle(std::span<const EventValue> now, double tolerance,
     hold(v);
     switched.push_back(v.bodies[0]);
   }
-  // The slipping rows' directions over the step.
-  pushing_.clear();
+  // The slipping rows' directions over the step: towards the target; a row let go at this start
+  // (now, or in an earlier round of it) on as its force pushed, which its rate, still on the
+  // target, does not tell.
+  const Switches before = switches();
+  std::vector<std::pair<std::uint64_t, double>> pushing;
   for (const EventValue& v : now) {
     if (v.limit || std::binary_search(held_.begin(), held_.end(), v.key)) continue;
     double push = v.rate >= 0.0 ? 1.0 : -1.0;
-    if (v.held) push = v.force >= 0.0 ? 1.0 : -1.0;  // let go just now: on as its force pushed
-    pushing_.emplace_back(v.key, push);
+    if (v.held)
+      push = v.force >= 0.0 ? 1.0 : -1.0;
+    else if (listed(released, v.key))
+      push = before.push(v.key, push);
+    pushing.emplace_back(v.key, push);
   }
-  std::sort(pushing_.begin(), pushing_.end());
+  std::sort(pushing.begin(), pushing.end());
+  pushing_ = std::move(pushing);
 }
 
 double RowEvents::share(const EventValue& end, std::span<const EventValue> start,
