@@ -7,9 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bench {
@@ -55,6 +58,24 @@ Body staticBox(std::string name, const Vec3& centre, const Vec3& half) {
 
 int stepsOf(double duration, double h) {
   return static_cast<int>(std::llround(duration / h));
+}
+
+/// A point's known path from its position at every step n (time n h), computed once per scene
+/// name and number of steps by `compute` (a reference solution integrated alongside).
+KnownPath stepwisePath(const Scene& s, int body, const Vec3& point, std::string source,
+                       const std::function<std::vector<Vec3>()>& compute) {
+  static std::map<std::pair<std::string, std::int64_t>, std::shared_ptr<const std::vector<Vec3>>>
+      computed;
+  std::shared_ptr<const std::vector<Vec3>>& at = computed[{s.name, s.steps}];
+  if (!at) at = std::make_shared<const std::vector<Vec3>>(compute());
+  const double h = s.timestep;
+  return KnownPath{
+      body, point, std::move(source), [at = at, h](double time) -> std::optional<Vec3> {
+        const auto n = static_cast<std::int64_t>(std::llround(time / h));
+        if (n < 0 || n >= static_cast<std::int64_t>(at->size()) || std::abs(time - n * h) > 1e-9)
+          return std::nullopt;
+        return (*at)[static_cast<std::size_t>(n)];
+      }};
 }
 
 }  // namespace
@@ -459,30 +480,18 @@ Scene spatialSliderCrank(double duration) {
   joint(Joint::Kind::Slider, -1, 2, sc::slider(q0), Vec3::UnitX());  // the guide
   joint(Joint::Kind::Ball, 1, 0, sc::pin(q0), Vec3::UnitZ());        // the crank pin
   joint(Joint::Kind::Ball, 1, 2, sc::slider(q0), Vec3::UnitZ());     // the slider pin
-  // The crank angle at every step from Lagrange's equation (balls at both ends of the rod), by
-  // fourth-order Runge-Kutta at 0.25 ms; computed once per duration.
-  static std::map<std::int64_t, std::shared_ptr<const std::vector<double>>> computed;
-  std::shared_ptr<const std::vector<double>>& angles = computed[s.steps];
-  if (!angles) {
+  // The crank pin at every step from Lagrange's equation in the crank angle (balls at both ends
+  // of the rod), by fourth-order Runge-Kutta at 0.25 ms.
+  s.path = stepwisePath(s, 0, Vec3(sc::kCrank / 2, 0.0, 0.0), "minimal-coordinate solution", [&] {
     const OneDofReference reference = sc::reference(sc::RodEnd::Ball);
-    auto q = std::make_shared<std::vector<double>>(1, q0);
-    double rate = 0.0;
+    double q = q0, rate = 0.0;
+    std::vector<Vec3> pins{sc::pin(q)};
     for (std::int64_t n = 1; n <= s.steps; ++n) {
-      double next = q->back();
-      reference.advance(next, rate, s.timestep, 2.5e-4);
-      q->push_back(next);
+      reference.advance(q, rate, s.timestep, 2.5e-4);
+      pins.push_back(sc::pin(q));
     }
-    angles = q;
-  }
-  const double h = s.timestep;
-  s.path = KnownPath{0, Vec3(sc::kCrank / 2, 0.0, 0.0), "minimal-coordinate solution",
-                     [angles, h](double time) -> std::optional<Vec3> {
-                       const auto n = static_cast<std::int64_t>(std::llround(time / h));
-                       if (n < 0 || n >= static_cast<std::int64_t>(angles->size()) ||
-                           std::abs(time - n * h) > 1e-9)
-                         return std::nullopt;
-                       return slider_crank::pin((*angles)[static_cast<std::size_t>(n)]);
-                     }};
+    return pins;
+  });
   return s;
 }
 
@@ -545,29 +554,17 @@ Scene flyballGovernorA05(double duration) {
                                .damping = fb::kDamping,
                                .rest = fb::kRest});
   }
-  // The slider's height at every step from the reduced-coordinate solution (RK4 at 1e-5 s),
-  // computed once per duration.
-  static std::map<std::int64_t, std::shared_ptr<const std::vector<double>>> computed;
-  std::shared_ptr<const std::vector<double>>& heights = computed[s.steps];
-  if (!heights) {
+  // The slider's centre at every step from the reduced-coordinate solution (RK4 at 1e-5 s).
+  s.path = stepwisePath(s, 1, Vec3::Zero(), "reduced-coordinate solution", [&] {
     const fb::Reference reference;
     fb::State x;
-    auto z = std::make_shared<std::vector<double>>(1, x.s);
+    std::vector<Vec3> centres{Vec3(0.0, 0.0, x.s)};
     for (std::int64_t n = 1; n <= s.steps; ++n) {
       reference.advance(x, s.timestep, 1e-5);
-      z->push_back(x.s);
+      centres.emplace_back(0.0, 0.0, x.s);
     }
-    heights = z;
-  }
-  const double h = s.timestep;
-  s.path = KnownPath{1, Vec3::Zero(), "reduced-coordinate solution",
-                     [heights, h](double time) -> std::optional<Vec3> {
-                       const auto n = static_cast<std::int64_t>(std::llround(time / h));
-                       if (n < 0 || n >= static_cast<std::int64_t>(heights->size()) ||
-                           std::abs(time - n * h) > 1e-9)
-                         return std::nullopt;
-                       return Vec3(0.0, 0.0, (*heights)[static_cast<std::size_t>(n)]);
-                     }};
+    return centres;
+  });
   return s;
 }
 
