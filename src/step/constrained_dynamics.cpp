@@ -28,21 +28,31 @@ bool isForceRow(const Row& r) {
   return r.kind == RowKind::Motor && r.lo == r.hi;
 }
 
+/// The free coordinate a joint row acts on (its key: (joint + 1) << 8 | slot, slots from 16 the
+/// coordinates' parts) and the part (joints::coordinateSlot); none for a joint's own rows.
+struct CoordinatePart {
+  const CoordinateDef* coordinate = nullptr;
+  int part = -1;
+};
+CoordinatePart coordinateOf(const Row& r, std::span<const std::unique_ptr<Joint>> joints) {
+  const auto joint = static_cast<std::size_t>((r.key >> 8) - 1);
+  const int slot = static_cast<int>(r.key & 0xff);
+  if (joint >= joints.size() || slot < joints::coordinateSlot(0, 0)) return {};
+  const auto index = static_cast<std::size_t>((slot - 16) / 16);
+  const auto& coordinates = joints[joint]->def().coordinates;
+  if (index >= coordinates.size()) return {};
+  return {&coordinates[index], (slot - 16) % 16};
+}
+
 /// The stiffness and damping of a drive row (a spring, a servo), none for other rows.
 std::optional<std::pair<double, double>> driveLaw(const Row& r,
                                                   std::span<const std::unique_ptr<Joint>> joints) {
   if (r.kind != RowKind::Drive) return std::nullopt;
-  const auto joint = static_cast<std::size_t>((r.key >> 8) - 1);
-  const int slot = static_cast<int>(r.key & 0xff);
-  if (joint >= joints.size() || slot < joints::coordinateSlot(0, 0)) return std::nullopt;
-  const auto index = static_cast<std::size_t>((slot - 16) / 16);
-  const int part = (slot - 16) % 16;
-  const auto& coordinates = joints[joint]->def().coordinates;
-  if (index >= coordinates.size()) return std::nullopt;
-  const CoordinateDef& c = coordinates[index];
-  if (part == 3 && c.spring) return std::pair{c.spring->stiffness, c.spring->damping};
-  if (part == 2 && c.motor && c.motor->isServo())
-    return std::pair{c.motor->target_position ? c.motor->stiffness : 0.0, c.motor->damping};
+  const auto [c, part] = coordinateOf(r, joints);
+  if (!c) return std::nullopt;
+  if (part == 3 && c->spring) return std::pair{c->spring->stiffness, c->spring->damping};
+  if (part == 2 && c->motor && c->motor->isServo())
+    return std::pair{c->motor->target_position ? c->motor->stiffness : 0.0, c->motor->damping};
   return std::nullopt;  // armature
 }
 
@@ -58,14 +68,8 @@ Row asEquality(Row r) {
 /// d/dt of a velocity row's target: a velocity motor's target_velocity's rate (a table's slope);
 /// friction's target is zero.
 double targetRate(const Row& r, std::span<const std::unique_ptr<Joint>> joints, double time) {
-  const auto joint = static_cast<std::size_t>((r.key >> 8) - 1);
-  const int slot = static_cast<int>(r.key & 0xff);
-  if (joint >= joints.size() || slot < joints::coordinateSlot(0, 0) || (slot - 16) % 16 != 2)
-    return 0.0;
-  const auto index = static_cast<std::size_t>((slot - 16) / 16);
-  const auto& coordinates = joints[joint]->def().coordinates;
-  if (index >= coordinates.size() || !coordinates[index].motor) return 0.0;
-  return coordinates[index].motor->target_velocity.rate(time);
+  const auto [c, part] = coordinateOf(r, joints);
+  return c && part == 2 && c->motor ? c->motor->target_velocity.rate(time) : 0.0;
 }
 
 bool isMoving(BodyId id, std::span<const std::uint8_t> moving) {
