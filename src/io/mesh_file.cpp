@@ -104,6 +104,10 @@ void readBinaryStl(const std::string& path, const std::string& bytes, ShapeDef& 
   if (bytes.size() < expected)
     fail(path, fmt::format("truncated binary STL: {} triangles need {} bytes, the file has {}",
                            count, expected, bytes.size()));
+  if (bytes.size() > expected)  // a count short of the data: which of the two is wrong is unknown
+    fail(path, fmt::format("binary STL: {} triangles need {} bytes (84 + 50 per triangle), the "
+                           "file has {}: the triangle count does not match the data",
+                           count, expected, bytes.size()));
   VertexWelder welder;
   for (std::uint32_t t = 0; t < count; ++t) {
     const char* record = bytes.data() + 84 + 50ull * t;  // normal, 3 corners, attribute
@@ -175,7 +179,7 @@ void readStl(const std::string& path, ShapeDef& mesh) {
   if (bytes.size() < 84)
     fail(path,
          fmt::format("truncated binary STL: {} bytes, less than the 84-byte header", bytes.size()));
-  readBinaryStl(path, bytes, mesh);  // reports the size mismatch
+  readBinaryStl(path, bytes, mesh);  // refuses the size mismatch
 }
 
 /// An OBJ index: an integer, '+' allowed as atoi allows it. One beyond long long is clamped (it is
@@ -223,6 +227,12 @@ void checkObjLines(const std::string& path, std::string_view text) {
     } else if (words[0] == "f") {
       if (words.size() < 4)
         bad(fmt::format("a face needs at least 3 vertices, got {}", words.size() - 1));
+      if (words.size() - 1 > kMaxObjFaceVertices)
+        bad(
+            fmt::format("a face of {} vertices, above the limit of {} (triangulating a face takes "
+                        "time growing with the square of its vertices); split it into smaller "
+                        "faces",
+                        words.size() - 1, kMaxObjFaceVertices));
       std::vector<long long> corners;
       for (std::size_t k = 1; k < words.size(); ++k) {
         const std::string_view word = words[k];

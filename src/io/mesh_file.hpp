@@ -8,15 +8,22 @@
 
 #include <linx/shape.hpp>
 
+#include <cstddef>
 #include <string>
 
 namespace linx::io {
 
+/// The most vertices an OBJ face may have: tinyobjloader's ear clipping takes time growing with
+/// the square of a face's vertices, so that one face of 400,000 took minutes; with this bound the
+/// time to read a file grows linearly with its size. Larger faces are refused with their line.
+inline constexpr std::size_t kMaxObjFaceVertices = 64;
+
 /// A Mesh shape (type, points, triangles, file) read from an .obj or .stl file (by extension,
 /// case-insensitive). Throws std::runtime_error naming the file and the problem: missing or
-/// unreadable, empty, truncated binary STL, malformed ASCII STL or OBJ (with the line, and the
-/// file's own words: `OBJ line 4: face index 0 (indices start at 1)`), a vertex index out of
-/// range, non-finite coordinates, no triangles, an unknown extension.
+/// unreadable, empty, a binary STL whose size is not 84 + 50 per triangle counted, malformed ASCII
+/// STL or OBJ (with the line, and the file's own words: `OBJ line 4: face index 0 (indices start at
+/// 1)`), a vertex index out of range, a face of more than kMaxObjFaceVertices vertices, non-finite
+/// coordinates, no triangles, an unknown extension.
 ShapeDef loadMeshFile(const std::string& path);
 
 }  // namespace linx::io
