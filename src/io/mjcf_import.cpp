@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -32,6 +33,12 @@ namespace {
 using tinyxml2::XMLElement;
 
 constexpr int kMaxIncludeDepth = 16;
+// Bounds on what includes may make of a small model (nine files of 1 kB, each including the next
+// 16 times, would be 16^8 copies), over the whole model: the <include>s read, the bytes read, and
+// the elements copied (the work of splicing).
+constexpr int kMaxIncludes = 1000;
+constexpr std::uint64_t kMaxModelBytes = io::kModelLimit;
+constexpr std::size_t kMaxModelElements = 1'000'000;
 constexpr double kDefaultDensity = 1000.0;  // MuJoCo's geom density (kg/m^3)
 
 // Attributes of an element type ("joint", "geom") by name.
@@ -43,7 +50,7 @@ class MjcfImporter {
       : path_(path), file_(path.string()), options_(options) {}
 
   Scene run() {
-    load(path_, doc_);
+    bytes_ = load(path_, doc_);
     XMLElement* root = doc_.FirstChildElement("mujoco");
     if (!root) fail("mujoco", "an MJCF file needs a <mujoco> element");
     spliceIncludes(root, path_, 0);
@@ -79,7 +86,8 @@ class MjcfImporter {
  private:
   // ---- reading ----
 
-  static void load(const std::filesystem::path& path, tinyxml2::XMLDocument& doc) {
+  // Returns the file's size.
+  static std::uint64_t load(const std::filesystem::path& path, tinyxml2::XMLDocument& doc) {
     std::string text;
     try {
       text = io::readInputFile(path, io::kModelLimit, "an MJCF file");
@@ -87,6 +95,14 @@ class MjcfImporter {
       throw SceneError(path.string(), "", e.what());
     }
     io::parseXml(doc, text, path.string());
+    return text.size();
+  }
+
+  static std::size_t elementsIn(const XMLElement* e) {
+    std::size_t n = 1;
+    for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
+      n += elementsIn(c);
+    return n;
   }
 
   // <include file="..."/>: the included file's top-level children (inside its own <mujoco>) take
@@ -101,6 +117,10 @@ class MjcfImporter {
       if (std::string(e->Name()) == "include") {
         if (depth >= kMaxIncludeDepth)
           refuse(e, fmt::format("more than {} nested includes", kMaxIncludeDepth));
+        if (++includes_ > kMaxIncludes)
+          refuse(e, fmt::format("more than {} includes read in the whole model (each <include> "
+                                "counts, a file included twice twice)",
+                                kMaxIncludes));
         const char* name = e->Attribute("file");
         if (!name) refuse(e, "file: missing");
         const std::filesystem::path included = file.parent_path() / name;
@@ -111,11 +131,23 @@ class MjcfImporter {
         } catch (const std::runtime_error& error) {
           refuse(e, fmt::format("file '{}': {}", name, error.what()));
         }
+        bytes_ += text.size();
+        if (bytes_ > kMaxModelBytes)
+          refuse(e, fmt::format("file '{}': the model and the includes read reach {} bytes, above "
+                                "the limit of {} for a whole model",
+                                name, bytes_, kMaxModelBytes));
         tinyxml2::XMLDocument other;
         io::parseXml(other, text, included.string());
         XMLElement* other_root = other.FirstChildElement("mujoco");
         if (!other_root) throw SceneError(included.string(), "mujoco", "needs a <mujoco> element");
         spliceIncludes(other_root, included, depth + 1);
+        // Counted before cloning, so that a bound passed costs nothing more.
+        for (const XMLElement* c = other_root->FirstChildElement(); c; c = c->NextSiblingElement())
+          spliced_ += elementsIn(c);
+        if (spliced_ > kMaxModelElements)
+          refuse(e, fmt::format("file '{}': the includes copy more than {} elements in all (an "
+                                "element counted at each include it is copied through)",
+                                name, kMaxModelElements));
         tinyxml2::XMLNode* after = e;
         for (XMLElement* c = other_root->FirstChildElement(); c; c = c->NextSiblingElement())
           after = parent->InsertAfterChild(after, c->DeepClone(&doc_));
@@ -202,8 +234,11 @@ class MjcfImporter {
   }
 
   // The class an element takes: its own, else the nearest childclass of its bodies, else main.
-  static std::string classOf(const XMLElement* e, const std::string& childclass) {
+  // A class that names no default is refused, as MuJoCo refuses it.
+  std::string classOf(const XMLElement* e, const std::string& childclass) const {
     const char* own = e->Attribute("class");
+    if (own && !defaults_.count(own))
+      fail(where(e), fmt::format("class: no default class '{}'", own));
     return own ? own : childclass;
   }
 
@@ -376,6 +411,10 @@ class MjcfImporter {
       }
     }
     if (free && !joints.empty()) fail(where(e), "a free joint and other joints in one body");
+    if (free && parent >= 0)  // as MuJoCo: a free body's pose is its own, not its parent's
+      fail(where(e), fmt::format("a free joint only in a body of <worldbody>, not inside body '{}' "
+                                 "(as in MuJoCo)",
+                                 scene_.bodies[static_cast<std::size_t>(parent)].name));
     if (joints.size() > static_cast<std::size_t>(kMaxCoordinates))
       fail(where(e),
            fmt::format("has {} joints: at most {} in one body", joints.size(), kMaxCoordinates));
@@ -789,6 +828,9 @@ class MjcfImporter {
   std::map<std::string, std::pair<std::size_t, int>> joint_coordinate_;
   std::map<std::string, int> unused_;
   int world_geoms_ = -1;
+  int includes_ = 0;         // <include>s read
+  std::uint64_t bytes_ = 0;  // bytes read: the model and every include read
+  std::size_t spliced_ = 0;  // elements copied by includes
 };
 
 }  // namespace
