@@ -26,6 +26,7 @@
 #include "collision/geometry.hpp"
 #include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
+#include "io/mimic_cycles.hpp"
 #include "io/suggestion.hpp"
 #include "io/text_number.hpp"
 
@@ -238,6 +239,8 @@ class Reader {
         }
         scene.joints.push_back(std::move(joint));
       }
+      if (const auto cycle = io::findMimicCycle(scene))
+        fail(childPath(itemPath(joints->path, cycle->mimic), "leader"), cycle->problem);
     }
     if (auto springs = get(node, "springs")) {
       expectArray(*springs);

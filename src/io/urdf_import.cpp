@@ -12,6 +12,7 @@
 #include "io/import_check.hpp"
 #include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
+#include "io/mimic_cycles.hpp"
 #include "io/xml_error.hpp"
 
 #include <console_bridge/console.h>
@@ -400,6 +401,12 @@ class UrdfImporter {
     // Mimic joints after the joints they tie (a scene names them before).
     for (const std::string& name : xml.joints)
       if (const urdf::Joint& j = jointOf(name); j.mimic) scene.joints.push_back(mimic(j, scene));
+    if (const auto cycle = io::findMimicCycle(scene)) {
+      const JointDef& d = scene.joints[cycle->mimic].def;
+      fail(fmt::format("joint '{}' <mimic>",
+                       scene.joints[static_cast<std::size_t>(d.follower->index)].def.name),
+           cycle->problem);
+    }
     io::completeImported(scene, "link");
     scene.warnings = xml.unsupported.warnings(file_);
     for (const std::string& w : meshes_made_convex_) scene.warnings.push_back(w);
