@@ -13,9 +13,10 @@ the field as a path (`bodies[0].mass`), whichever way it was written.
 from __future__ import annotations
 
 import json
+import math
 from typing import Any, Iterable, Optional
 
-from linx._linx import World, loads
+from linx._linx import SceneError, World, loads
 
 __all__ = ["Scene", "sphere", "box", "capsule", "cylinder", "plane", "convex", "mesh"]
 
@@ -29,6 +30,19 @@ def _plain(value: Any) -> Any:
     if isinstance(value, dict):
         return {k: _plain(v) for k, v in value.items()}
     return value
+
+
+def _non_finite(value: Any, path: str) -> Optional[tuple[str, float]]:
+    """The path (`bodies[0].mass`) and value of the first NaN or infinity in `value`, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return path, value
+    items = (value.items() if isinstance(value, dict)
+             else enumerate(value) if isinstance(value, list) else ())
+    for key, item in items:
+        found = _non_finite(item, f"{path}.{key}" if isinstance(key, str) else f"{path}[{key}]")
+        if found:
+            return found
+    return None
 
 
 class Scene:
@@ -95,13 +109,22 @@ class Scene:
                 d[key] = items
         return d
 
-    def to_json(self) -> str:
-        """The scene as the text of a scene file."""
-        return json.dumps(self.to_dict(), indent=2)
+    def to_json(self, file: str = "<linx.Scene>") -> str:
+        """The scene as the text of a scene file. A NaN or an infinity, which JSON cannot hold,
+        raises linx.SceneError naming its field (`bodies[0].mass`) and `file`."""
+        d = self.to_dict()
+        found = _non_finite(d, "")
+        if found:
+            field, value = found[0].lstrip("."), found[1]
+            problem = f"must be a finite number, got {value}"
+            error = SceneError(f"{file}: {field}: {problem}")
+            error.file, error.field, error.problem = file, field, problem
+            raise error
+        return json.dumps(d, indent=2, allow_nan=False)
 
     def build(self, file: str = "<linx.Scene>") -> World:
         """The world of the scene. Raises linx.SceneError naming the field at fault."""
-        return loads(self.to_json(), file)
+        return loads(self.to_json(file), file)
 
 
 def _shape(type: str, **fields: Any) -> dict[str, Any]:

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <vector>
 
 namespace py = pybind11;
@@ -90,10 +92,39 @@ Vec3 vectorArgument(py::handle value, const std::string& what) {
 Quat quaternionArgument(py::handle value, const std::string& what) {
   const auto a = matrixArgument(value, 4, 0, what);
   const double* d = a.data();
-  Quat q(d[0], d[1], d[2], d[3]);  // Eigen's constructor takes w, x, y, z
-  if (!(q.norm() > 1e-12))
-    throw py::value_error(fmt::format("{}: a zero quaternion is no rotation", what));
-  return q.normalized();
+  const std::optional<Quat> q = unitQuaternion(d);
+  if (!q) throw py::value_error(fmt::format("{}: a zero quaternion is no rotation", what));
+  return *q;
+}
+
+std::optional<Quat> unitQuaternion(const double* wxyz) {
+  const Eigen::Vector4d c(wxyz[0], wxyz[1], wxyz[2], wxyz[3]);
+  const double length = c.stableNorm();
+  if (!(length > 0)) return std::nullopt;
+  return Quat(c[0] / length, c[1] / length, c[2] / length, c[3] / length);  // w, x, y, z
+}
+
+bool Index::fitsInt() const {
+  return value >= std::numeric_limits<int>::min() && value <= std::numeric_limits<int>::max();
+}
+
+std::optional<Index> indexArgument(py::handle value) {
+  if (!PyIndex_Check(value.ptr()) || py::isinstance<py::bool_>(value)) return std::nullopt;
+  const auto number = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!number) throw py::error_already_set();
+  int overflow = 0;
+  Index index;
+  index.value = PyLong_AsLongLongAndOverflow(number.ptr(), &overflow);
+  if (overflow != 0)
+    index.value = overflow > 0 ? std::numeric_limits<long long>::max()
+                               : std::numeric_limits<long long>::min();
+  try {
+    index.text = py::str(number);
+  } catch (const py::error_already_set&) {  // more digits than Python writes out
+    index.text = overflow > 0 ? "(an int of thousands of digits)"
+                              : "(a negative int of thousands of digits)";
+  }
+  return index;
 }
 
 }  // namespace linx::python

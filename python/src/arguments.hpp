@@ -7,6 +7,7 @@
 #include <pybind11/numpy.h>
 
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,5 +33,37 @@ void checkThreads(int threads);
 Vec3 vectorArgument(pybind11::handle value, const std::string& what);
 /// A quaternion argument (w, x, y, z), normalized; ValueError for a zero one.
 Quat quaternionArgument(pybind11::handle value, const std::string& what);
+/// (w, x, y, z) scaled to unit length without overflow or underflow (divided by its stableNorm, as
+/// the scene reader does: (1e200, 1e200, 0, 0) is the rotation (0.7071, 0.7071, 0, 0)), or nullopt
+/// for the zero quaternion, which is no rotation.
+std::optional<Quat> unitQuaternion(const double* wxyz);
+
+/// A Python int of any size, or whatever stands for one (numpy's integers; not a bool): its value
+/// clamped to the range of long long, and its digits for messages. Every call that takes an index
+/// takes one, so that 10**20 is an index out of range (IndexError, or the ValueError of a
+/// coordinate out of range) rather than a number pybind11 cannot convert.
+struct Index {
+  long long value = 0;
+  std::string text;
+  bool fitsInt() const;
+};
+/// `value` as an Index, or nullopt if it is not an int.
+std::optional<Index> indexArgument(pybind11::handle value);
 
 }  // namespace linx::python
+
+namespace pybind11::detail {
+template <>
+struct type_caster<linx::python::Index> {
+  PYBIND11_TYPE_CASTER(linx::python::Index, const_name("int"));
+  bool load(handle src, bool /*convert*/) {
+    auto index = linx::python::indexArgument(src);
+    if (!index) return false;
+    value = std::move(*index);
+    return true;
+  }
+  static handle cast(const linx::python::Index& index, return_value_policy, handle) {
+    return PyLong_FromLongLong(index.value);
+  }
+};
+}  // namespace pybind11::detail

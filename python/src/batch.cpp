@@ -158,10 +158,11 @@ void bindBatch(py::module_& m) {
   c.def("__len__", &Batch::copies);
   c.def(
       "__getitem__",
-      [](const Batch& b, long long i) {
+      [](const Batch& b, const Index& given) {
         const long long n = static_cast<long long>(b.worlds_.size());
-        if (i < 0) i += n;
-        if (i < 0 || i >= n) throw py::index_error(fmt::format("copy {} of {}", i, n));
+        long long i = given.value;
+        if (i < 0) i = i < -n ? -1 : i + n;
+        if (i < 0 || i >= n) throw py::index_error(fmt::format("copy {} of {}", given.text, n));
         return b.worlds_[static_cast<std::size_t>(i)];
       },
       "Copy i as a World (the same object each time).");

@@ -1,5 +1,6 @@
 // linx.Body and linx.Joint: handles on one body or joint of a World, for reading it and for
 // acting on it between steps (forces, drive targets, limits, springs).
+#include "arguments.hpp"
 #include "bindings.hpp"
 #include "py_world.hpp"
 #include "state_arrays.hpp"
@@ -50,6 +51,15 @@ void wakeJoint(JointHandle& h) {
   const Joint& j = w.joint(h.id);
   for (const BodyId b : {j.body1(), j.body2()})
     if (!b.isWorld()) w.wake(b);
+}
+
+/// A coordinate index of joint h as the joints take it; one beyond an int is refused as they
+/// refuse one out of their range (ValueError), naming the number given.
+int coordinateIndex(JointHandle& h, const Index& coordinate) {
+  if (coordinate.fitsInt()) return static_cast<int>(coordinate.value);
+  const Joint& j = h.owner->world().joint(h.id);
+  throw py::value_error(fmt::format("coordinate {}: joint '{}' has {} free coordinates",
+                                    coordinate.text, j.def().name, j.freeCoordinates()));
 }
 
 /// Applies `edit` to joint h's Joint (set a motor, limits, ...) and wakes its bodies.
@@ -211,14 +221,14 @@ void bindJoint(py::module_& m) {
           "set_motor",
           [](JointHandle& h, double target_velocity, double max_force,
              std::optional<double> target_position, double stiffness, double damping,
-             int coordinate) {
+             const Index& coordinate) {
             JointMotor motor;
             motor.target_velocity = target_velocity;
             motor.max_force = max_force;
             if (target_position) motor.target_position = Signal(*target_position);
             motor.stiffness = stiffness;
             motor.damping = damping;
-            editJoint(h, [&](Joint& j) { j.setMotor(motor, coordinate); });
+            editJoint(h, [&](Joint& j) { j.setMotor(motor, coordinateIndex(h, coordinate)); });
           },
           py::kw_only(), py::arg("target_velocity") = 0.0, py::arg("max_force") = kInf,
           py::arg("target_position") = py::none(), py::arg("stiffness") = 0.0,
@@ -229,28 +239,33 @@ void bindJoint(py::module_& m) {
           "(target_velocity - x'). Raises ValueError for values the joint refuses.")
       .def(
           "clear_motor",
-          [](JointHandle& h, int coordinate) {
-            editJoint(h, [&](Joint& j) { j.setMotor(std::nullopt, coordinate); });
+          [](JointHandle& h, const Index& coordinate) {
+            editJoint(h,
+                      [&](Joint& j) { j.setMotor(std::nullopt, coordinateIndex(h, coordinate)); });
           },
           py::kw_only(), py::arg("coordinate") = 0, "Removes the coordinate's drive.")
       .def(
           "set_limits",
-          [](JointHandle& h, double lower, double upper, int coordinate) {
-            editJoint(h, [&](Joint& j) { j.setLimits(JointLimits{lower, upper}, coordinate); });
+          [](JointHandle& h, double lower, double upper, const Index& coordinate) {
+            editJoint(h, [&](Joint& j) {
+              j.setLimits(JointLimits{lower, upper}, coordinateIndex(h, coordinate));
+            });
           },
           py::kw_only(), py::arg("lower") = -kInf, py::arg("upper") = kInf,
           py::arg("coordinate") = 0, "Sets the coordinate's limits (m or rad).")
       .def(
           "clear_limits",
-          [](JointHandle& h, int coordinate) {
-            editJoint(h, [&](Joint& j) { j.setLimits(std::nullopt, coordinate); });
+          [](JointHandle& h, const Index& coordinate) {
+            editJoint(h,
+                      [&](Joint& j) { j.setLimits(std::nullopt, coordinateIndex(h, coordinate)); });
           },
           py::kw_only(), py::arg("coordinate") = 0, "Removes the coordinate's limits.")
       .def(
           "set_spring",
-          [](JointHandle& h, double stiffness, double damping, double rest, int coordinate) {
+          [](JointHandle& h, double stiffness, double damping, double rest,
+             const Index& coordinate) {
             editJoint(h, [&](Joint& j) {
-              j.setSpring(JointSpring{stiffness, damping, rest}, coordinate);
+              j.setSpring(JointSpring{stiffness, damping, rest}, coordinateIndex(h, coordinate));
             });
           },
           py::kw_only(), py::arg("stiffness"), py::arg("damping") = 0.0, py::arg("rest") = 0.0,
@@ -258,24 +273,25 @@ void bindJoint(py::module_& m) {
           "Sets a spring-damper on the coordinate: F = -stiffness (x - rest) - damping x'.")
       .def(
           "clear_spring",
-          [](JointHandle& h, int coordinate) {
-            editJoint(h, [&](Joint& j) { j.setSpring(std::nullopt, coordinate); });
+          [](JointHandle& h, const Index& coordinate) {
+            editJoint(h,
+                      [&](Joint& j) { j.setSpring(std::nullopt, coordinateIndex(h, coordinate)); });
           },
           py::kw_only(), py::arg("coordinate") = 0, "Removes the coordinate's spring.")
       .def(
           "set_force",
-          [](JointHandle& h, std::optional<double> force, int coordinate) {
+          [](JointHandle& h, std::optional<double> force, const Index& coordinate) {
             std::optional<Signal> signal;
             if (force) signal = Signal(*force);
-            editJoint(h, [&](Joint& j) { j.setForce(signal, coordinate); });
+            editJoint(h, [&](Joint& j) { j.setForce(signal, coordinateIndex(h, coordinate)); });
           },
           py::arg("force"), py::kw_only(), py::arg("coordinate") = 0,
           "Applies a force (N) or torque (N m) along the coordinate at every step from now on "
           "(an actuator's effort); None removes it.")
       .def(
           "set_coordinate",
-          [](JointHandle& h, double value, int coordinate) {
-            h.owner->world().setJointCoordinate(h.id, coordinate, value);
+          [](JointHandle& h, double value, const Index& coordinate) {
+            h.owner->world().setJointCoordinate(h.id, coordinateIndex(h, coordinate), value);
           },
           py::arg("value"), py::kw_only(), py::arg("coordinate") = 0,
           "Moves body1's side of the mechanism so that the coordinate reads `value` (a model "

@@ -1,10 +1,13 @@
 #include "py_world.hpp"
 
+#include "arguments.hpp"
 #include "errors.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <climits>
+#include <optional>
 #include <utility>
 
 namespace py = pybind11;
@@ -91,14 +94,15 @@ Id idOf(const std::shared_ptr<PyWorld>& owner, py::handle key, const std::vector
     throw py::key_error(fmt::format("no {} named '{}'", what, name));
   }
   // Python ints and whatever stands for one (numpy's integers); not bools.
-  if (PyIndex_Check(key.ptr()) && !py::isinstance<py::bool_>(key)) {
+  if (const std::optional<Index> given = indexArgument(key)) {
     const long long n = static_cast<long long>(ids.size());
-    const long long given = py::int_(py::reinterpret_borrow<py::object>(key)).cast<long long>();
-    const long long i = given < 0 ? given + n : given;
+    // Clamped at the range of long long: adding n cannot overflow into the range.
+    const long long i =
+        given->value < 0 ? (given->value == LLONG_MIN ? -1 : given->value + n) : given->value;
     owner->world();
     if (i < 0 || i >= n)
       throw py::index_error(fmt::format("{} index {} out of range: the world has {} {}", what,
-                                        given, n,
+                                        given->text, n,
                                         what == std::string("body") ? "bodies" : "joints"));
     return ids[static_cast<std::size_t>(i)];
   }

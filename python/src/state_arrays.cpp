@@ -58,7 +58,7 @@ void writeBodies(World& world, const std::vector<BodyId>& bodies, BodyField fiel
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const double* r = rows + i * static_cast<std::size_t>(c);
     const Body& b = world.body(bodies[i]);
-    if (field == BodyField::Orientation && !(Quat(r[0], r[1], r[2], r[3]).norm() > 1e-12))
+    if (field == BodyField::Orientation && !unitQuaternion(r))
       throw py::value_error(fmt::format("{}: a zero quaternion is no rotation", named(i, b)));
     const bool velocity = field == BodyField::LinearVelocity || field == BodyField::AngularVelocity;
     if (velocity && b.isStatic() && Vec3(r[0], r[1], r[2]) != Vec3::Zero())
@@ -75,7 +75,7 @@ void writeBodies(World& world, const std::vector<BodyId>& bodies, BodyField fiel
         break;
       }
       case BodyField::Orientation: {
-        const Quat q = Quat(r[0], r[1], r[2], r[3]).normalized();
+        const Quat q = *unitQuaternion(r);
         if (!q.coeffs().isApprox(b.orientation().coeffs(), 0.0))
           b.setPose(Pose{b.position(), q}), changed = true;
         break;
