@@ -17,6 +17,7 @@
 #include "render_command.hpp"
 #include "run_command.hpp"
 #include "soak_command.hpp"
+#include "stop_signals.hpp"
 #include "view_command.hpp"
 #include "viz/run.hpp"
 #include "viz/vtk.hpp"
@@ -69,9 +70,12 @@ int convert(const ConvertOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(options.output, ec))
     throw BadInput(fmt::format("{}: is a directory, expected a file to write", options.output));
-  const linx::Scene scene = linx::loadModel(
-      options.input, linx::ImportOptions{.floating_base = options.floating_base,
-                                         .allow_outside_paths = options.allow_outside_paths});
+  linx::Scene scene;
+  linx::cli::whileLoading(options.input, [&] {
+    scene = linx::loadModel(
+        options.input, linx::ImportOptions{.floating_base = options.floating_base,
+                                           .allow_outside_paths = options.allow_outside_paths});
+  });
   for (const std::string& warning : scene.warnings)
     fmt::print(stderr, "linx: warning: {}\n", warning);
   linx::io::writeFileAtomically(options.output, linx::writeSceneJson(scene));

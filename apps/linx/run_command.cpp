@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -63,19 +64,24 @@ struct Prepared {
 };
 
 // Loads the scene, applies the flags and builds the world: everything that can reject the input.
+// A stop signal ends it (whileLoading).
 Prepared prepare(const RunOptions& options) {
-  Scene scene =
-      loadModel(options.scene, ImportOptions{.floating_base = options.floating_base,
-                                             .allow_outside_paths = options.allow_outside_paths});
-  for (const std::string& warning : scene.warnings)
-    fmt::print(stderr, "linx: warning: {}\n", warning);
-  if (options.duration) scene.duration = *options.duration;
-  if (options.timestep) scene.settings.timestep = *options.timestep;
-  if (options.threads) scene.settings.threads = *options.threads;
-  if (options.keep_going) scene.settings.faults.stop = false;
-  const std::int64_t steps = stepCount(scene, options);
-  World world = buildWorld(scene);
-  return {std::move(scene), std::move(world), steps};
+  std::optional<Prepared> prepared;
+  whileLoading(options.scene, [&] {
+    Scene scene =
+        loadModel(options.scene, ImportOptions{.floating_base = options.floating_base,
+                                               .allow_outside_paths = options.allow_outside_paths});
+    for (const std::string& warning : scene.warnings)
+      fmt::print(stderr, "linx: warning: {}\n", warning);
+    if (options.duration) scene.duration = *options.duration;
+    if (options.timestep) scene.settings.timestep = *options.timestep;
+    if (options.threads) scene.settings.threads = *options.threads;
+    if (options.keep_going) scene.settings.faults.stop = false;
+    const std::int64_t steps = stepCount(scene, options);
+    World world = buildWorld(scene);
+    prepared.emplace(Prepared{std::move(scene), std::move(world), steps});
+  });
+  return std::move(*prepared);
 }
 
 // One line on stdout for each joint that broke since the last call.
@@ -340,8 +346,10 @@ int resume(const std::string& given, std::optional<bool> keep_going) {
   fs::path out;
   RunCheckpoint c = loadCheckpoint(given, out);
   if (keep_going) c.keep_going = *keep_going;
-  const Scene scene = parseScene(c.scene, given + " (its scene)");
-  World world = buildWorld(scene);
+  std::optional<World> built;
+  whileLoading(given,
+               [&] { built.emplace(buildWorld(parseScene(c.scene, given + " (its scene)"))); });
+  World world = std::move(*built);
   try {
     world.restoreState(c.state);
   } catch (const std::invalid_argument& e) {

@@ -63,7 +63,8 @@ int soak(const SoakOptions& options) {
     throw BadInput(fmt::format("--max-growth: must be >= 0, got {}", options.max_growth));
   // Every scene is loaded first: a bad one is refused before hours of stepping.
   std::vector<Scene> scenes;
-  for (const std::string& file : options.scenes) scenes.push_back(loadModel(file));
+  for (const std::string& file : options.scenes)
+    whileLoading(file, [&] { scenes.push_back(loadModel(file)); });
   const StopSignals stop_signals;
   int status = 0;
   const std::int64_t warm_up = std::max<std::int64_t>(1, options.steps / 2);

@@ -1,6 +1,12 @@
 #include "stop_signals.hpp"
 
+#include "cli_common.hpp"
+
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 
 namespace linx::cli {
 
@@ -77,6 +83,28 @@ void StopWatchdog::watch() {
     // Not busy at the deadline: the work is polling the signal itself.
     while (!done_) wake_.wait(lock);
   }
+}
+
+namespace {
+
+[[noreturn]] void interruptedWhileLoading(const std::string& source) {
+  fmt::print(stderr, "linx: {}: interrupted while reading it; nothing written\n", source);
+  std::fflush(stderr);
+  std::_Exit(kExitInterrupted);
+}
+
+}  // namespace
+
+void whileLoading(const std::string& source, const std::function<void()>& load) {
+  const StopSignals signals;
+  {
+    // No grace: nothing is written while loading, so there is nothing to wait for.
+    StopWatchdog watchdog(std::chrono::milliseconds(0),
+                          [&source] { interruptedWhileLoading(source); });
+    const StopWatchdog::Busy busy(watchdog);
+    load();
+  }
+  if (StopSignals::received() != 0) interruptedWhileLoading(source);
 }
 
 }  // namespace linx::cli

@@ -1,6 +1,6 @@
 // How every `linx` command stops on SIGINT and SIGTERM (docs/reliability.md): one handler that only
 // notes the signal, polled by the commands where stopping leaves their output whole, and a watchdog
-// for the one place that cannot poll, a long simulation step.
+// for the places that cannot poll: a long simulation step, and the reading of the inputs.
 #pragma once
 
 #include <chrono>
@@ -8,6 +8,7 @@
 #include <csignal>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 
 namespace linx::cli {
@@ -60,5 +61,12 @@ class StopWatchdog {
   bool busy_ = false, done_ = false;
   std::thread thread_;
 };
+
+/// Runs `load` (reading a scene or a model with its meshes and includes, building its world:
+/// nothing written yet) so that a stop signal ends it within 50 ms, however long a parse or a
+/// triangulation runs without looking: the process ends with exit status 130 and
+/// `linx: SOURCE: interrupted while reading it; nothing written`. A signal that arrives as the
+/// loading ends does the same once it has.
+void whileLoading(const std::string& source, const std::function<void()>& load);
 
 }  // namespace linx::cli
