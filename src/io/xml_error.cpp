@@ -42,7 +42,7 @@ std::size_t lineAt(const std::string& text, std::size_t pos) {
 }
 
 // What holds the text at `pos`: "<include> file" inside a tag (the attribute before it), else
-// "the text of <include>" (the element open before it).
+// "the text after <include>" (the tag before it).
 std::string holderAt(const std::string& text, std::size_t pos) {
   const std::size_t lt = text.rfind('<', pos);
   if (lt == std::string::npos) return "the text before the first element";
