@@ -5,6 +5,7 @@
 // and ASCII STL) and the mass properties of convex hulls.
 #include <linx/mass_properties.hpp>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -695,6 +696,53 @@ TEST(MeshFile, BadFilesAreReportedWithTheirName) {
   const auto unknown = tempFile("mesh.ply");
   std::ofstream(unknown) << "ply\n";
   expectLoadError(unknown, "unknown extension");
+}
+
+// A binary STL is as long as its count says (84 + 50 n bytes): one with more data than its count,
+// which used to be read as its first n triangles, is refused as one with less.
+TEST(MeshFile, BinaryStlSizeMustMatchItsCount) {
+  const auto longer = tempFile("longer.stl");
+  writeBinaryStl(longer, kTetra);
+  std::ofstream(longer, std::ios::binary | std::ios::app) << std::string(50, '\0');
+  expectLoadError(longer,
+                  "binary STL: 4 triangles need 284 bytes (84 + 50 per triangle), the file "
+                  "has 334: the triangle count does not match the data");
+}
+
+// An OBJ face of kMaxObjFaceVertices is triangulated (a regular polygon: n - 2 triangles covering
+// its area, n/2 sin(2 pi / n)); one more vertex is refused with the face's line, so that reading
+// takes time linear in the file's size (one face of 400,000 took minutes).
+TEST(MeshFile, ObjFacesAreBoundedInVertices) {
+  const auto polygon = [](std::size_t n) {
+    std::string text = "# a regular polygon\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      const double a = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+      text += fmt::format("v {:.17g} {:.17g} 0\n", std::cos(a), std::sin(a));
+    }
+    text += "f";
+    for (std::size_t i = 1; i <= n; ++i) text += fmt::format(" {}", i);
+    return text + "\n";
+  };
+  const std::size_t n = io::kMaxObjFaceVertices;
+  const auto largest = tempFile("largest_face.obj");
+  std::ofstream(largest) << polygon(n);
+  const ShapeDef m = io::loadMeshFile(largest.string());
+  ASSERT_EQ(m.triangles.size(), n - 2);
+  double area = 0;
+  for (const auto& t : m.triangles) {
+    const Vec3 e1 =
+        m.points[static_cast<std::size_t>(t[1])] - m.points[static_cast<std::size_t>(t[0])];
+    const Vec3 e2 =
+        m.points[static_cast<std::size_t>(t[2])] - m.points[static_cast<std::size_t>(t[0])];
+    area += 0.5 * e1.cross(e2).norm();
+  }
+  EXPECT_NEAR(
+      area, 0.5 * static_cast<double>(n) * std::sin(2 * std::numbers::pi / static_cast<double>(n)),
+      1e-12);
+  const auto above = tempFile("face_above.obj");
+  std::ofstream(above) << polygon(n + 1);
+  expectLoadError(above, fmt::format("OBJ line {}: a face of {} vertices, above the limit of {}",
+                                     n + 3, n + 1, n));
 }
 
 /// The whole message of a file refused: "mesh file PATH: PROBLEM".
