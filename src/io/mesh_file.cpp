@@ -2,8 +2,8 @@
 #include "io/mesh_file.hpp"
 
 #include "io/input_file.hpp"
-#include "io/text_number.hpp"
 #include "io/quoting.hpp"
+#include "io/text_number.hpp"
 
 #include <fmt/format.h>
 #include <tiny_obj_loader.h>
