@@ -32,11 +32,15 @@ def request(port, path, headers=None, timeout=5.0):
     """(status, headers, body, seconds) of one GET from 127.0.0.1."""
     start = time.monotonic()
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=timeout)
-    c.request("GET", path, headers={"Host": f"127.0.0.1:{port}", **(headers or {})})
-    r = c.getresponse()
-    body = r.read()
-    c.close()
-    return r.status, dict(r.getheaders()), body, time.monotonic() - start
+    try:
+        c.request("GET", path, headers={"Host": f"127.0.0.1:{port}", **(headers or {})})
+        r = c.getresponse()
+        body = r.read()
+        return r.status, dict(r.getheaders()), body, time.monotonic() - start
+    except (OSError, http.client.HTTPException, OverflowError) as e:  # no answer, or a bad one
+        return f"{type(e).__name__}: {e}", {}, b"", time.monotonic() - start
+    finally:
+        c.close()
 
 
 def ranges(port, whole):
