@@ -8,6 +8,7 @@ The slow connections are ended by the server within its request deadline (4 s).
 Usage: test_view_clients.py LINX EXAMPLES
 """
 import http.client
+import json
 import os
 import re
 import resource
@@ -147,13 +148,19 @@ def main():
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     resource.setrlimit(resource.RLIMIT_NOFILE, (min(max(soft, 4096), hard), hard))
     with tempfile.TemporaryDirectory() as work:
-        run = os.path.join(work, "run")
+        # The folder's name reaches the page (its title) through the manifest's JSON.
+        folder = "run`touch CANARY`<img src=x onerror=alert(1)>\"'\\ \u00e9"
+        run = os.path.join(work, folder)
         subprocess.run([linx, "run", os.path.join(examples, "pendulum.json"), "--out", run,
                         "--duration", "0.1"], check=True, stdout=subprocess.DEVNULL)
         view = subprocess.Popen([linx, "view", run, "--port", "0"], stdout=subprocess.PIPE,
                                 stderr=subprocess.DEVNULL, text=True)
         try:
             port = int(re.search(r"127\.0\.0\.1:(\d+)/", view.stdout.readline()).group(1))
+            status, _, body, _ = request(port, "/run/manifest.json")
+            manifest = json.loads(body)
+            check(status == 200 and manifest["name"] == folder,
+                  f"manifest: HTTP {status}: {body!r}")
             whole = open(os.path.join(run, "bodies.csv"), "rb").read()
             status, _, body, _ = request(port, "/run/bodies.csv")
             check(status == 200 and body == whole, f"bodies.csv: HTTP {status}")
