@@ -166,6 +166,13 @@ def main():
             check(status == 200 and body == whole, f"bodies.csv: HTTP {status}")
             ranges(port, whole)
             log("ranges checked")
+            # A body the viewer would have to hold: refused at once (it takes none).
+            s = connect(port, "127.0.0.1")
+            s.sendall(f"POST / HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
+                      "Content-Length: 1000000000\r\n\r\nabc".encode())
+            s.settimeout(5)
+            check(s.recv(100).startswith(b"HTTP/1.1 413 "), "a 1 GB body is not refused")
+            s.close()
             attack(port, "127.0.0.2", "127.0.0.3", "other addresses")
             log("attack from other addresses survived")
             attack(port, "127.0.0.1", "127.0.0.1", "the same address")

@@ -159,6 +159,12 @@ class DeadlineStream : public httplib::Stream {
 
 ViewServer::ViewServer(ViewServerLimits limits) : limits_(limits) {
   new_task_queue = [workers = limits_.workers] { return new StampedPool(workers); };
+  // What cpp-httplib tells clients in its Keep-Alive header (the loop here enforces them).
+  set_keep_alive_max_count(limits_.keep_alive_requests);
+  set_keep_alive_timeout(
+      std::chrono::duration_cast<std::chrono::seconds>(limits_.keep_alive).count());
+  // The viewer takes no request bodies: one is read at most this far (and answered 413 beyond).
+  set_payload_max_length(64 * 1024);
 }
 
 void ViewServer::widenBacklog(int backlog) {
