@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -110,4 +112,35 @@ TEST(GnuplotString, GnuplotReadsItBackAsTheVisibleText) {
   for (std::size_t i = 0; i < texts.size(); ++i) EXPECT_EQ(lines[i], visible(texts[i]));
   EXPECT_FALSE(fs::exists(canary));
   fs::remove_all(dir);
+}
+
+// Any byte string: visible() holds no control byte and is idempotent; gnuplotString() holds only
+// plain bytes and three-digit octal escapes between its quotes; povComment() no line end.
+TEST(Quoting, AnyBytesComeOutInert) {
+  std::mt19937 random(43);
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::string text(random() % 24, '\0');
+    for (char& c : text) c = static_cast<char>(random() % 256);
+    const std::string shown = visible(text);
+    for (const char c : shown) ASSERT_TRUE(static_cast<unsigned char>(c) >= 0x20 && c != 0x7f);
+    ASSERT_EQ(visible(shown), shown);
+    const std::string literal = gnuplotString(text);
+    ASSERT_GE(literal.size(), 2u);
+    ASSERT_EQ(literal.front(), '"');
+    ASSERT_EQ(literal.back(), '"');
+    for (std::size_t i = 1; i + 1 < literal.size(); ++i) {
+      const char c = literal[i];
+      if (c != '\\') {
+        const bool plain = std::isalnum(static_cast<unsigned char>(c)) ||
+                           std::string_view(" .,:;_-+=()/").find(c) != std::string_view::npos;
+        ASSERT_TRUE(plain) << literal;
+        continue;
+      }
+      ASSERT_LT(i + 3, literal.size()) << literal;
+      for (std::size_t k = 1; k <= 3; ++k)
+        ASSERT_TRUE(literal[i + k] >= '0' && literal[i + k] <= '7');
+      i += 3;
+    }
+    ASSERT_EQ(povComment(text).find_first_of("\n\r"), std::string::npos);
+  }
 }
