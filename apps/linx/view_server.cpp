@@ -192,11 +192,12 @@ void ViewServer::makeRoom(const std::string& client) {
     end(*oldest);
 }
 
-std::list<ViewServer::Connection>::iterator ViewServer::enter(int sock, std::string client,
-                                                              Clock::time_point since) {
+std::list<ViewServer::Connection>::iterator ViewServer::enter(int sock, std::string client) {
   const std::lock_guard lock(mutex_);
   makeRoom(client);
-  return connections_.insert(connections_.end(), Connection{sock, std::move(client), since});
+  // Waiting since now, not since its accept: one that sat in the queue is read at once, and is
+  // not the one to end.
+  return connections_.insert(connections_.end(), Connection{sock, std::move(client), Clock::now()});
 }
 
 void ViewServer::setWaiting(std::list<Connection>::iterator it, bool waiting) {
@@ -222,7 +223,7 @@ bool ViewServer::process_and_close_socket(socket_t sock) {
     return false;
   }
   int port = 0;
-  const auto connection = enter(sock, peerOf(sock, port), start);
+  const auto connection = enter(sock, peerOf(sock, port));
   DeadlineStream stream(sock, limits_, [&] { setWaiting(connection, false); });
   bool ok = false;
   for (std::size_t count = limits_.keep_alive_requests; count > 0; --count) {

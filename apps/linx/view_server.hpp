@@ -57,8 +57,7 @@ class ViewServer : public httplib::Server {
   bool process_and_close_socket(socket_t sock) override;
   // Registers a connection that waits for its first request, ending the longest-waiting one
   // of its client (or of all) when there is no room.
-  std::list<Connection>::iterator enter(int sock, std::string client,
-                                        std::chrono::steady_clock::time_point since);
+  std::list<Connection>::iterator enter(int sock, std::string client);
   void leave(std::list<Connection>::iterator it);
   void setWaiting(std::list<Connection>::iterator it, bool waiting);
   void makeRoom(const std::string& client);
