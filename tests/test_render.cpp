@@ -387,8 +387,10 @@ TEST(RenderScene, ControlCharactersInNamesStayInTheirComment) {
   run.frames.push_back(frame);
   const std::string scene =
       linx::viz::povInclude(run, linx::viz::chooseCamera(run, 4.0 / 3.0), 4.0 / 3.0);
-  EXPECT_NE(scene.find("// body 0: ball sphere { 0, 100 }  \n"), std::string::npos) << scene;
-  EXPECT_NE(scene.find("// joint 0: pin #declare X = 1; (ball)\n"), std::string::npos) << scene;
+  // Shown as io::visible shows them: the line ends as the characters \n and \r.
+  EXPECT_NE(scene.find("// body 0: ball\\nsphere { 0, 100 }\\r\\x7f\n"), std::string::npos)
+      << scene;
+  EXPECT_NE(scene.find("// joint 0: pin\\n#declare X = 1; (ball)\n"), std::string::npos) << scene;
   EXPECT_EQ(scene.find("\nsphere { 0, 100 }"), std::string::npos) << scene;
   EXPECT_EQ(scene.find("\n#declare X"), std::string::npos) << scene;
   EXPECT_EQ(scene.find('\r'), std::string::npos);

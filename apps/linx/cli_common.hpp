@@ -1,12 +1,17 @@
 // What every `linx` subcommand shares: its exit statuses and the error for a bad flag value.
 #pragma once
 
+#include "io/quoting.hpp"
+
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 #include <system_error>
+#include <utility>
 
 namespace linx::cli {
 
@@ -18,8 +23,26 @@ constexpr int kExitInterrupted = 130;
 /// A bad flag value or a bad input folder: reported like a scene error, exit status 2.
 class BadInput : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit BadInput(const std::string& message) : std::runtime_error(io::visible(message)) {}
 };
+
+/// Prints a message, warning or summary line to `to`, as io::visible shows it: a name holding
+/// terminal escapes or a path holding a NUL is shown, never acted on or cut. The final newline
+/// of the format is kept; any other is shown as `\n`. Every line linx prints goes through here
+/// (the progress bar's own control sequences aside).
+template <typename... T>
+void say(std::FILE* to, fmt::format_string<T...> format, T&&... args) {
+  std::string text = fmt::format(format, std::forward<T>(args)...);
+  const bool newline = !text.empty() && text.back() == '\n';
+  if (newline) text.pop_back();
+  std::fputs((io::visible(text) + (newline ? "\n" : "")).c_str(), to);
+  std::fflush(to);
+}
+
+template <typename... T>
+void say(fmt::format_string<T...> format, T&&... args) {
+  say(stdout, format, std::forward<T>(args)...);
+}
 
 /// Refuses an output folder that cannot be one: an empty path, an existing file, or a path through
 /// a file (`afile/sub`). `flag` names it in the message ("--out").

@@ -51,6 +51,7 @@ using linx::cli::BadInput;
 using linx::cli::kExitBadInput;
 using linx::cli::kExitFailure;
 using linx::cli::RunOptions;
+using linx::cli::say;
 
 double positiveFlag(const char* flag, double value) {
   if (!(std::isfinite(value) && value > 0))
@@ -76,11 +77,10 @@ int convert(const ConvertOptions& options) {
         options.input, linx::ImportOptions{.floating_base = options.floating_base,
                                            .allow_outside_paths = options.allow_outside_paths});
   });
-  for (const std::string& warning : scene.warnings)
-    fmt::print(stderr, "linx: warning: {}\n", warning);
+  for (const std::string& warning : scene.warnings) say(stderr, "linx: warning: {}\n", warning);
   linx::io::writeFileAtomically(options.output, linx::writeSceneJson(scene));
-  fmt::print("wrote {} ({} bodies, {} joints)\n", options.output, scene.bodies.size(),
-             scene.joints.size());
+  say("wrote {} ({} bodies, {} joints)\n", options.output, scene.bodies.size(),
+      scene.joints.size());
   return 0;
 }
 
@@ -247,10 +247,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ExtrasError& e) {
-    fmt::print(stderr, "linx: {}\n", unexpectedArguments(app, e));
+    say(stderr, "linx: {}\n", unexpectedArguments(app, e));
     return kExitBadInput;
   } catch (const CLI::ConversionError& e) {
-    fmt::print(stderr, "linx: {}\n", unconvertible(app, e));
+    say(stderr, "linx: {}\n", unconvertible(app, e));
     return kExitBadInput;
   } catch (const CLI::ParseError& e) {
     if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
@@ -258,11 +258,11 @@ int main(int argc, char** argv) {
       for (const CLI::App* command : app.get_subcommands({}))
         commands.push_back(command->get_name());
       const std::string_view closest = linx::io::closestName(argv[1], commands);
-      fmt::print(stderr, "linx: '{}': not a command of linx{} (see linx --help)\n", argv[1],
-                 closest.empty() ? "" : fmt::format("; did you mean {}?", closest));
+      say(stderr, "linx: '{}': not a command of linx{} (see linx --help)\n", argv[1],
+          closest.empty() ? "" : fmt::format("; did you mean {}?", closest));
       return kExitBadInput;
     }
-    fmt::print(stderr, "linx: {} (see linx --help)\n", oneLine(e.what()));
+    say(stderr, "linx: {} (see linx --help)\n", oneLine(e.what()));
     return kExitBadInput;
   }
 
@@ -296,22 +296,22 @@ int main(int argc, char** argv) {
     }
     return *check_cmd ? linx::cli::check(options) : linx::cli::run(options);
   } catch (const linx::SceneError& e) {
-    fmt::print(stderr, "linx: {}\n", e.what());
+    say(stderr, "linx: {}\n", e.what());
     return kExitBadInput;
   } catch (const linx::CheckpointError& e) {
-    fmt::print(stderr, "linx: {}\n", e.what());
+    say(stderr, "linx: {}\n", e.what());
     return kExitBadInput;
   } catch (const linx::viz::RunError& e) {
-    fmt::print(stderr, "linx: {}\n", e.what());
+    say(stderr, "linx: {}\n", e.what());
     return kExitBadInput;
   } catch (const BadInput& e) {
-    fmt::print(stderr, "linx: {}\n", e.what());
+    say(stderr, "linx: {}\n", e.what());
     return kExitBadInput;
   } catch (const std::exception& e) {
     if (options.scene.empty())
-      fmt::print(stderr, "linx: {}\n", oneLine(e.what()));
+      say(stderr, "linx: {}\n", oneLine(e.what()));
     else
-      fmt::print(stderr, "linx: {}: {}\n", options.scene, oneLine(e.what()));
+      say(stderr, "linx: {}: {}\n", options.scene, oneLine(e.what()));
     return kExitFailure;
   }
 }

@@ -5,6 +5,7 @@
 
 #include "cli_common.hpp"
 #include "io/output_file.hpp"
+#include "io/quoting.hpp"
 #include "process.hpp"
 #include "viz/run.hpp"
 
@@ -29,24 +30,10 @@ namespace {
 // More joints than this are drawn without a legend (a chain's hundred hinges).
 constexpr std::size_t kMaxLegend = 12;
 
-// Text for one line of the script: control characters (a newline would end a title or a
-// comment and make the rest of a name gnuplot commands) are shown as spaces.
-std::string oneLine(std::string text) {
-  for (char& c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) c = ' ';
-  }
-  return text;
-}
-
-// A string as a gnuplot string literal (on one line).
+// Every text in the script (titles, labels, file names, the folder in the comment line) is a
+// gnuplot string literal written by io::gnuplotString, in which gnuplot substitutes nothing.
 std::string quoted(const std::string& text) {
-  std::string out = "\"";
-  for (char c : oneLine(text)) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + '"';
+  return io::gnuplotString(text);
 }
 
 // gnuplot's titles treat _ and ^ as sub- and superscripts under the enhanced text mode; the
@@ -226,7 +213,7 @@ int plot(const PlotOptions& options) {
   std::string script = fmt::format(
       "# linx plot {}: rerun with `gnuplot plots.gp` in this folder\n"
       "set datafile missing \"NaN\"\n",
-      oneLine(options.dir));
+      quoted(options.dir));
   for (const Plot& p : plots) script += p.data;  // `reset` below keeps data blocks
   std::vector<std::string> pictures;
   for (const Plot& p : plots) {
@@ -276,7 +263,7 @@ int plot(const PlotOptions& options) {
   }
   std::string names;
   for (const Plot& p : plots) names += (names.empty() ? "" : ", ") + p.name;
-  fmt::print("wrote {} plots to {} (PNG and SVG): {}\n", plots.size(), out.string(), names);
+  say("wrote {} plots to {} (PNG and SVG): {}\n", plots.size(), out.string(), names);
   return 0;
 }
 

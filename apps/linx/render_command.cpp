@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -341,6 +342,12 @@ int render(const RenderOptions& options) {
   const double aspect = static_cast<double>(options.width) / options.height;
   const viz::Camera camera = viz::chooseCamera(run, aspect);
   io::writeFileAtomically(folder / "scene.inc", viz::povInclude(run, camera, aspect));
+  // povray reads a povray.ini from its working folder, DIR/render, which a run folder from
+  // elsewhere could bring (an Include_Header runs its code): POVINI names linx's own, which
+  // sets nothing, as every option is on povray's command line.
+  const fs::path ini = folder / "linx.ini";
+  io::writeFileAtomically(ini, "; linx render: povray's options are on its command line\n");
+  ::setenv("POVINI", fs::absolute(ini).c_str(), 1);
 
   const std::vector<std::size_t> frames =
       single ? std::vector<std::size_t>{single_frame} : viz::pickFrames(run, options.fps);
@@ -377,7 +384,7 @@ int render(const RenderOptions& options) {
       runJobs(*povray, jobs, folder, parallel, threads_each, options, run, progress);
     } catch (const Interrupted&) {
       progress.clear();
-      fmt::print(stderr, "linx: {}: interrupted; stopped povray\n", folder.string());
+      say(stderr, "linx: {}: interrupted; stopped povray\n", folder.string());
       return kExitInterrupted;
     } catch (const JobFailed& e) {
       progress.clear();
@@ -386,7 +393,7 @@ int render(const RenderOptions& options) {
   }
 
   if (single) {
-    fmt::print("{}\n", jobs.front().png.string());
+    say("{}\n", jobs.front().png.string());
     return 0;
   }
 
@@ -403,13 +410,13 @@ int render(const RenderOptions& options) {
     try {
       makeVideo(*ffmpeg, folder, file, video, rate);
     } catch (const Interrupted&) {
-      fmt::print(stderr, "linx: {}: interrupted; stopped ffmpeg\n", file.string());
+      say(stderr, "linx: {}: interrupted; stopped ffmpeg\n", file.string());
       return kExitInterrupted;
     }
     video_note = fmt::format(", video {}", file.string());
   }
-  fmt::print("rendered {} frame{} to {} ({}x{}){}\n", frames.size(), frames.size() == 1 ? "" : "s",
-             folder.string(), options.width, options.height, video_note);
+  say("rendered {} frame{} to {} ({}x{}){}\n", frames.size(), frames.size() == 1 ? "" : "s",
+      folder.string(), options.width, options.height, video_note);
   return 0;
 }
 

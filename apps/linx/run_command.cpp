@@ -71,8 +71,7 @@ Prepared prepare(const RunOptions& options) {
     Scene scene =
         loadModel(options.scene, ImportOptions{.floating_base = options.floating_base,
                                                .allow_outside_paths = options.allow_outside_paths});
-    for (const std::string& warning : scene.warnings)
-      fmt::print(stderr, "linx: warning: {}\n", warning);
+    for (const std::string& warning : scene.warnings) say(stderr, "linx: warning: {}\n", warning);
     if (options.duration) scene.duration = *options.duration;
     if (options.timestep) scene.settings.timestep = *options.timestep;
     if (options.threads) scene.settings.threads = *options.threads;
@@ -93,11 +92,11 @@ void reportBreaks(const World& world, std::size_t& reported, ProgressBar& progre
     const double force = b.reaction.force.norm(), torque = b.reaction.torque.norm();
     const bool by_force = force > def.break_force.value_or(kInfinity);
     progress.clear();
-    fmt::print("t = {:.9g} s: joint '{}' broke: {} (force {:.6g} N, torque {:.6g} N m)\n", b.time,
-               def.name,
-               by_force ? fmt::format("force above its break_force of {} N", *def.break_force)
-                        : fmt::format("torque above its break_torque of {} N m", *def.break_torque),
-               force, torque);
+    say("t = {:.9g} s: joint '{}' broke: {} (force {:.6g} N, torque {:.6g} N m)\n", b.time,
+        def.name,
+        by_force ? fmt::format("force above its break_force of {} N", *def.break_force)
+                 : fmt::format("torque above its break_torque of {} N m", *def.break_torque),
+        force, torque);
   }
 }
 
@@ -171,9 +170,8 @@ int simulate(Session& s) {
   // A step that runs on for a second after SIGINT or SIGTERM (a huge dense solve) is not waited
   // for: the frames recorded are already whole on disk.
   StopWatchdog watchdog(std::chrono::seconds(1), [&] {
-    fmt::print(stderr,
-               "linx: {}: interrupted inside step {}, still running 1 s after the signal; {}\n",
-               s.run.source, step, keptOutput(s, last_frame_time));
+    say(stderr, "linx: {}: interrupted inside step {}, still running 1 s after the signal; {}\n",
+        s.run.source, step, keptOutput(s, last_frame_time));
     std::_Exit(kExitInterrupted);
   });
   // The last good state is taken at a recorded frame, at most once a second of the run's own
@@ -197,8 +195,8 @@ int simulate(Session& s) {
     for (; faults_reported < faults.size(); ++faults_reported) {
       if (faults_reported >= kFaultWarnings) continue;
       progress.clear();
-      fmt::print(stderr, "linx: warning: {}: {}; going on (--on-fault continue)\n", s.run.source,
-                 faults[faults_reported]);
+      say(stderr, "linx: warning: {}: {}; going on (--on-fault continue)\n", s.run.source,
+          faults[faults_reported]);
     }
   };
 
@@ -211,9 +209,8 @@ int simulate(Session& s) {
       s.recorder.finish();
       const fs::path saved =
           writeRunCheckpoint(s, last_good, last_good_output, last_good_frames, last_good_step);
-      fmt::print(stderr, "linx: {}: {}; {}; the last good state (t = {} s) is in {}\n",
-                 s.run.source, e.what(), keptOutput(s, last_frame_time), last_good_time,
-                 saved.string());
+      say(stderr, "linx: {}: {}; {}; the last good state (t = {} s) is in {}\n", s.run.source,
+          e.what(), keptOutput(s, last_frame_time), last_good_time, saved.string());
       return kExitNonFinite;
     }
     reportBreaks(world, breaks_reported, progress);
@@ -224,8 +221,8 @@ int simulate(Session& s) {
     if (StopSignals::received()) {
       progress.clear();
       s.recorder.finish();
-      fmt::print(stderr, "linx: {}: interrupted at step {} (t = {} s); {}\n", s.run.source, step,
-                 world.time(), keptOutput(s, last_frame_time));
+      say(stderr, "linx: {}: interrupted at step {} (t = {} s); {}\n", s.run.source, step,
+          world.time(), keptOutput(s, last_frame_time));
       return kExitInterrupted;
     }
     progress.update(step, world.time());
@@ -233,11 +230,11 @@ int simulate(Session& s) {
   progress.clear();
   s.recorder.finish();
   if (world.faultCount() > static_cast<std::int64_t>(kFaultWarnings))
-    fmt::print(stderr, "linx: warning: {}: {} faults in all, the first {} shown above\n",
-               s.run.source, world.faultCount(), kFaultWarnings);
-  fmt::print("wrote {} files to {} ({} frames, {} steps, t = {} s)\n",
-             4 + int{s.run.contacts} + int{s.run.breaks}, s.out.string(), s.run.frames, steps,
-             world.time());
+    say(stderr, "linx: warning: {}: {} faults in all, the first {} shown above\n", s.run.source,
+        world.faultCount(), kFaultWarnings);
+  say("wrote {} files to {} ({} frames, {} steps, t = {} s)\n",
+      4 + int{s.run.contacts} + int{s.run.breaks}, s.out.string(), s.run.frames, steps,
+      world.time());
   return 0;
 }
 
@@ -261,7 +258,7 @@ RunCheckpoint loadCheckpoint(const std::string& given, fs::path& out) {
       return readCheckpoint(all[i]);
     } catch (const CheckpointError& e) {
       if (i == 0) throw;
-      fmt::print(stderr, "linx: warning: {}; taking an older checkpoint\n", e.what());
+      say(stderr, "linx: warning: {}; taking an older checkpoint\n", e.what());
     }
   }
   throw BadInput(fmt::format("{}: no checkpoint reads", given));
@@ -284,10 +281,10 @@ int check(const RunOptions& options) {
       i.type == IntegratorType::Step
           ? std::string(", integrator step")
           : fmt::format(", integrator {} (tolerance {})", integratorTypeName(i.type), i.tolerance);
-  fmt::print("{}: ok: {}, {}{}, timestep {} s, duration {} s ({} steps), solver {}{}\n",
-             options.scene, count(p.scene.bodies.size(), "body", "bodies"),
-             count(p.scene.joints.size(), "joint", "joints"), extra, p.scene.settings.timestep,
-             p.scene.duration, p.steps, solverTypeName(p.scene.settings.solver.type), integrator);
+  say("{}: ok: {}, {}{}, timestep {} s, duration {} s ({} steps), solver {}{}\n", options.scene,
+      count(p.scene.bodies.size(), "body", "bodies"),
+      count(p.scene.joints.size(), "joint", "joints"), extra, p.scene.settings.timestep,
+      p.scene.duration, p.steps, solverTypeName(p.scene.settings.solver.type), integrator);
   return 0;
 }
 
@@ -360,8 +357,8 @@ int resume(const std::string& given, std::optional<bool> keep_going) {
     throw BadInput(
         fmt::format("{}: the run had ended (step {} of {})", given, world.stepCount(), c.steps));
   const StopSignals stop_signals;
-  fmt::print(stderr, "linx: resuming {} at step {} (t = {} s) in {}\n", c.source, world.stepCount(),
-             world.time(), out.string());
+  say(stderr, "linx: resuming {} at step {} (t = {} s) in {}\n", c.source, world.stepCount(),
+      world.time(), out.string());
   const RecorderOptions recording{.contacts = c.contacts, .breaks = c.breaks};
   const RecorderPosition at = c.output;
   Session s{std::move(world), Recorder(out, recording, at), out, std::move(c)};
@@ -371,8 +368,8 @@ int resume(const std::string& given, std::optional<bool> keep_going) {
 int writeVtk(const std::string& dir) {
   const viz::Run run = viz::readRun(dir);
   const viz::VtkSummary written = viz::writeVtk(run, dir);
-  fmt::print("wrote {} ({} frames in {})\n", written.collection.string(), written.frames,
-             written.folder.string());
+  say("wrote {} ({} frames in {})\n", written.collection.string(), written.frames,
+      written.folder.string());
   return 0;
 }
 

@@ -71,10 +71,9 @@ int soak(const SoakOptions& options) {
   for (Scene& scene : scenes) {
     scene.settings.sleep.enabled = false;  // every step does its work
     World world = buildWorld(scene);
-    fmt::print("{}: {} bodies, {} joints, {} steps of {} s (sleep off)\n", scene.file,
-               scene.bodies.size(), scene.joints.size(), options.steps, scene.settings.timestep);
-    fmt::print("{:>10}  {:>12}  {:>9}  {:>9}  {:>9}\n", "step", "t (s)", "heap MiB", "RSS MiB",
-               "ms/step");
+    say("{}: {} bodies, {} joints, {} steps of {} s (sleep off)\n", scene.file, scene.bodies.size(),
+        scene.joints.size(), options.steps, scene.settings.timestep);
+    say("{:>10}  {:>12}  {:>9}  {:>9}  {:>9}\n", "step", "t (s)", "heap MiB", "RSS MiB", "ms/step");
     double warm_heap = 0.0, peak_heap = 0.0;
     auto since = std::chrono::steady_clock::now();
     std::int64_t since_step = 0;
@@ -85,8 +84,8 @@ int soak(const SoakOptions& options) {
                             ? std::chrono::duration<double, std::milli>(now - since).count() /
                                   static_cast<double>(step - since_step)
                             : 0.0;
-      fmt::print("{:>10}  {:>12.6g}  {:>9.3f}  {:>9.1f}  {:>9.4f}\n", step, world.time(),
-                 m.heap_mib, m.resident_mib, ms);
+      say("{:>10}  {:>12.6g}  {:>9.3f}  {:>9.1f}  {:>9.4f}\n", step, world.time(), m.heap_mib,
+          m.resident_mib, ms);
       std::fflush(stdout);
       since = now;
       since_step = step;
@@ -97,12 +96,12 @@ int soak(const SoakOptions& options) {
       try {
         world.step();
       } catch (const StepFault& e) {
-        fmt::print(stderr, "linx: soak: {}: {}\n", scene.file, e.what());
+        say(stderr, "linx: soak: {}: {}\n", scene.file, e.what());
         status = kExitNonFinite;
         break;
       }
       if (StopSignals::received()) {
-        fmt::print(stderr, "linx: soak: interrupted at step {} of {}\n", step, scene.file);
+        say(stderr, "linx: soak: interrupted at step {} of {}\n", step, scene.file);
         return kExitInterrupted;
       }
       const bool warm = step == warm_up;
@@ -114,8 +113,7 @@ int soak(const SoakOptions& options) {
       if (step == options.steps) {
         const double growth = warm_heap > 0 ? (peak_heap - warm_heap) / warm_heap : 0.0;
         const bool flat = growth <= options.max_growth;
-        fmt::print(
-            "{}: heap {:.3f} MiB after warm-up (step {}), at most {:.3f} MiB after: {:+.2f} "
+        say("{}: heap {:.3f} MiB after warm-up (step {}), at most {:.3f} MiB after: {:+.2f} "
             "% ({})\n",
             scene.file, warm_heap, warm_up, peak_heap, 100.0 * growth, flat ? "flat" : "GREW");
         if (!flat && status == 0) status = kExitFailure;

@@ -88,8 +88,7 @@ void StopWatchdog::watch() {
 namespace {
 
 [[noreturn]] void interruptedWhileLoading(const std::string& source) {
-  fmt::print(stderr, "linx: {}: interrupted while reading it; nothing written\n", source);
-  std::fflush(stderr);
+  say(stderr, "linx: {}: interrupted while reading it; nothing written\n", source);
   std::_Exit(kExitInterrupted);
 }
 

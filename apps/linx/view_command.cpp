@@ -25,6 +25,7 @@
 #include <thread>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
 #include "process.hpp"
@@ -34,7 +35,7 @@
 #include <linx/run_files.hpp>
 
 // Last: through <resolv.h> it defines the macro `_res`, which breaks Eigen included after it.
-#include <httplib.h>
+#include "view_server.hpp"  // <httplib.h>
 
 namespace linx::cli {
 
@@ -44,28 +45,11 @@ extern const std::size_t kViewerPageSize;
 
 namespace {
 
-constexpr std::chrono::seconds kIoTimeout{2};
-constexpr std::size_t kWorkers = 16;
 constexpr std::size_t kMaxRanges = 4;
 
-std::string jsonString(std::string_view s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<unsigned char>(c));
-        else
-          out += c;
-    }
-  }
-  return out + "\"";
+// JSON text through nlohmann-json only; bytes that are not UTF-8 (a folder's name) become U+FFFD.
+std::string jsonText(const nlohmann::json& value) {
+  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 // The run's files, opened once when the server starts: only these are served, always the files
@@ -117,31 +101,30 @@ class RunFiles {
 
   /// Which run files are served, and the folder's name: what the page fetches first.
   std::string manifest(const std::filesystem::path& dir) const {
-    std::string names;
-    for (const auto& [name, fd] : files_) names += (names.empty() ? "" : ",") + jsonString(name);
+    nlohmann::json names = nlohmann::json::array();
+    for (const auto& [name, fd] : files_) names.push_back(name);
     const std::filesystem::path abs = std::filesystem::absolute(dir).lexically_normal();
     std::string folder = abs.filename().string();
     if (folder.empty()) folder = abs.parent_path().filename().string();
-    return fmt::format("{{\"name\":{},\"files\":[{}]}}\n", jsonString(folder), names);
+    nlohmann::json manifest;
+    manifest["name"] = folder;
+    manifest["files"] = names;
+    return jsonText(manifest) + "\n";
   }
 
  private:
   std::vector<std::pair<std::string, int>> files_;
 };
 
-// A request's byte ranges ("Range: bytes=0-99,200-299"): how many it asks for.
-std::size_t rangeCount(const httplib::Request& req) {
-  if (!req.has_header("Range")) return 0;
-  const std::string range = req.get_header_value("Range");
-  return 1 + static_cast<std::size_t>(std::count(range.begin(), range.end(), ','));
-}
-
 // Sends `size` bytes at `data` (kept alive by `owner`) uncompressed and not cached. A sized
 // content provider: cpp-httplib would otherwise brotli-compress text at its slowest setting, which
 // takes seconds for the page and minutes for a large CSV file.
-void reply(httplib::Response& res, const char* data, std::size_t size, const char* type,
-           std::shared_ptr<const std::string> owner = nullptr) {
+// Byte ranges are checked against the size first (fitRanges), at most kMaxRanges of them (800
+// made a 421 MB answer).
+void reply(const httplib::Request& req, httplib::Response& res, const char* data, std::size_t size,
+           const char* type, std::shared_ptr<const std::string> owner = nullptr) {
   res.set_header("Cache-Control", "no-store");
+  if (!fitRanges(req, size, kMaxRanges, res)) return;
   res.set_content_provider(
       size, type, [data, owner](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
         return sink.write(data + offset, length);
@@ -166,15 +149,10 @@ int view(const ViewOptions& options) {
 
   const RunFiles files(dir);
 
-  httplib::Server server;
-  // A connection that sends nothing (or reads nothing) is dropped after kIoTimeout; at most
-  // kWorkers are served at once, the others wait their turn: a stalled client holds one worker
-  // for a few seconds and never the server.
-  server.set_keep_alive_timeout(1);
-  server.set_keep_alive_max_count(5);
-  server.set_read_timeout(kIoTimeout);
-  server.set_write_timeout(kIoTimeout);
-  server.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
+  // Deadlines for whole requests, a cap per client address, enough workers (ViewServerLimits):
+  // a client trickling or holding connections is dropped within seconds, and never holds the
+  // server from the others.
+  ViewServer server;
   // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second server could
   // share a port that is taken instead of being refused.
   server.set_socket_options([](int sock) {
@@ -183,31 +161,26 @@ int view(const ViewOptions& options) {
   });  // quick shutdown while a browser keeps its connections
   int port = options.port;
 
-  // Only requests addressed to this server by name (no DNS rebinding from other sites), and at
-  // most kMaxRanges byte ranges a request (800 of them made a 421 MB answer).
+  // Only requests addressed to this server by name (no DNS rebinding from other sites).
   server.set_pre_routing_handler([&port](const httplib::Request& req, httplib::Response& res) {
     const std::string host = req.get_header_value("Host");
     if (host != fmt::format("127.0.0.1:{}", port) && host != fmt::format("localhost:{}", port)) {
+      dropRanges(req);
       res.status = 403;
       res.set_content("linx view: forbidden host\n", "text/plain");
       return httplib::Server::HandlerResponse::Handled;
     }
-    if (rangeCount(req) > kMaxRanges) {
-      res.status = 416;
-      res.set_content(fmt::format("linx view: at most {} ranges a request\n", kMaxRanges),
-                      "text/plain");
-      return httplib::Server::HandlerResponse::Handled;
-    }
     return httplib::Server::HandlerResponse::Unhandled;
   });
-  server.Get("/", [](const httplib::Request&, httplib::Response& res) {
-    reply(res, reinterpret_cast<const char*>(kViewerPage), kViewerPageSize,
+  server.Get("/", [](const httplib::Request& req, httplib::Response& res) {
+    reply(req, res, reinterpret_cast<const char*>(kViewerPage), kViewerPageSize,
           "text/html; charset=utf-8");
   });
-  server.Get("/run/manifest.json", [&dir, &files](const httplib::Request&, httplib::Response& res) {
-    const auto body = std::make_shared<const std::string>(files.manifest(dir));
-    reply(res, body->data(), body->size(), "application/json", body);
-  });
+  server.Get("/run/manifest.json",
+             [&dir, &files](const httplib::Request& req, httplib::Response& res) {
+               const auto body = std::make_shared<const std::string>(files.manifest(dir));
+               reply(req, res, body->data(), body->size(), "application/json", body);
+             });
   // The run's files by their fixed names only: the pattern admits no '/' and the name must be
   // one of the run files opened at the start (RunFiles), so nothing else can be reached.
   server.Get(R"(/run/([a-z]+\.(?:json|csv)))", [&files](const httplib::Request& req,
@@ -215,11 +188,12 @@ int view(const ViewOptions& options) {
     const std::string name = req.matches[1];
     auto body = std::make_shared<std::string>();
     if (!files.read(name, *body)) {
+      dropRanges(req);
       res.status = 404;
       res.set_content(fmt::format("linx view: no {} in the run folder\n", name), "text/plain");
       return;
     }
-    reply(res, body->data(), body->size(),
+    reply(req, res, body->data(), body->size(),
           name.ends_with(".json") ? "application/json" : "text/csv; charset=utf-8", body);
   });
 
@@ -230,6 +204,7 @@ int view(const ViewOptions& options) {
     throw BadInput(
         fmt::format("--port: cannot listen on 127.0.0.1:{} (already in use?)", options.port));
   }
+  server.widenBacklog();
 
   const StopSignals stop_signals;
   std::atomic<bool> ended{false};
@@ -238,10 +213,9 @@ int view(const ViewOptions& options) {
     listened = server.listen_after_bind();
     ended = true;
   });
-  std::cout << fmt::format("linx view: http://127.0.0.1:{}/ (Ctrl-C to stop)", port) << std::endl;
-  std::cerr << fmt::format("linx view: {} ({} bodies, {} frames)", options.dir, run.bodies.size(),
-                           run.frames.size())
-            << std::endl;
+  say("linx view: http://127.0.0.1:{}/ (Ctrl-C to stop)\n", port);
+  say(stderr, "linx view: {} ({} bodies, {} frames)\n", options.dir, run.bodies.size(),
+      run.frames.size());
 
   int received = 0;
   while (!ended && (received = StopSignals::received()) == 0)
@@ -249,7 +223,7 @@ int view(const ViewOptions& options) {
   server.stop();
   serving.join();
   if (!received && !listened) throw std::runtime_error("the viewer's server stopped unexpectedly");
-  std::cerr << "linx view: stopped" << std::endl;
+  say(stderr, "linx view: stopped\n");
   return 0;
 }
 

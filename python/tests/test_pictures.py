@@ -65,3 +65,29 @@ def test_view_serves_the_run(examples, tmp_path):
             assert b"bob" in r.read()
     assert viewer.process.poll() is not None
     assert np.isfinite(world.positions).all()
+
+
+def test_plot_of_a_recording_with_hostile_names_runs_nothing(linx_program, tmp_path):
+    # Names given in Python reach gnuplot's titles as data (issue 43): a backquoted command or
+    # $(...) in a joint's name runs nothing, and the SVG's titles show the names.
+    import subprocess
+    import xml.etree.ElementTree as ET
+    canary = tmp_path / "CANARY"
+    names = [f"pivot`touch {canary}1` > owned", f"$(touch {canary}2) @m \"q\" 'x' \\"]
+    scene = linx.Scene(gravity=[0, 0, -9.81], timestep=0.001)
+    scene.body("bob\x1b[2J", mass=1, position=[1.0, 0, 0], shapes=[linx.sphere(0.05)])
+    scene.body("bob2", mass=1, position=[2.0, 0, 0], shapes=[linx.sphere(0.05)])
+    scene.joint("hinge", "bob\x1b[2J", "world", name=names[0], anchor=[0, 0, 0], axis=[0, 1, 0])
+    scene.joint("hinge", "bob2", "bob\x1b[2J", name=names[1], anchor=[1, 0, 0], axis=[0, 1, 0])
+    world = scene.build()
+    with world.record(tmp_path / "run", every=10) as rec:
+        for _ in range(5):
+            world.step(10)
+            rec.record()
+    done = subprocess.run([linx_program, "plot", str(tmp_path / "run")], capture_output=True)
+    assert done.returncode == 0, done.stderr
+    assert not list(tmp_path.rglob("CANARY*"))
+    svg = ET.parse(tmp_path / "run" / "plots" / "joint_coordinates.svg")
+    texts = ["".join(e.itertext()) for e in svg.iter() if e.tag.endswith("text")]
+    for name in names:
+        assert f"{name} (hinge)" in texts

@@ -11,6 +11,7 @@
 
 #include "io/input_file.hpp"
 #include "io/output_file.hpp"
+#include "io/quoting.hpp"
 #include "world/state_archive.hpp"
 
 #include <fcntl.h>
@@ -61,7 +62,7 @@ void put(std::vector<std::byte>& out, const T& value) {
 
 CheckpointError::CheckpointError(const std::string& file, const std::string& field,
                                  const std::string& problem)
-    : std::runtime_error(fmt::format("{}: {}: {}", file, field, problem)) {}
+    : std::runtime_error(io::visible(fmt::format("{}: {}: {}", file, field, problem))) {}
 
 void writeCheckpoint(const fs::path& file, const RunCheckpoint& checkpoint) {
   std::vector<std::byte> payload;

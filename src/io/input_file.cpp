@@ -1,5 +1,7 @@
 #include "io/input_file.hpp"
 
+#include "io/quoting.hpp"
+
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
@@ -23,6 +25,9 @@ std::string size(std::uint64_t bytes) {
 }  // namespace
 
 std::string readInputFile(const fs::path& path, std::uint64_t limit, const char* kind) {
+  // The system would open the name only up to the NUL: another file than the one named.
+  if (path.native().find('\0') != std::string::npos)
+    throw std::runtime_error("cannot open: the file name holds a NUL byte");
   // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below.
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0)
@@ -69,7 +74,7 @@ void checkInsideFolder(const fs::path& path, const fs::path& folder, bool allowe
   throw std::runtime_error(
       fmt::format("'{}' is outside the scene's folder {} (linx reads only files there; "
                   "--allow-outside-paths lifts this)",
-                  path.string(), base.string()));
+                  visible(path.string()), visible(base.string())));
 }
 
 }  // namespace linx::io

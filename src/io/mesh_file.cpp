@@ -2,6 +2,7 @@
 #include "io/mesh_file.hpp"
 
 #include "io/input_file.hpp"
+#include "io/quoting.hpp"
 #include "io/text_number.hpp"
 
 #include <fmt/format.h>
@@ -28,7 +29,7 @@ namespace linx::io {
 namespace {
 
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
-  throw std::runtime_error(fmt::format("mesh file {}: {}", path, problem));
+  throw std::runtime_error(fmt::format("mesh file {}: {}", visible(path), problem));
 }
 
 std::string lowerExtension(const std::string& path) {

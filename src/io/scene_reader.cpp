@@ -27,14 +27,17 @@
 #include "io/input_file.hpp"
 #include "io/mesh_file.hpp"
 #include "io/mimic_cycles.hpp"
+#include "io/quoting.hpp"
 #include "io/suggestion.hpp"
 #include "io/text_number.hpp"
 
 namespace linx {
 
 SceneError::SceneError(std::string file, std::string field, std::string problem)
-    : std::runtime_error(field.empty() ? fmt::format("{}: {}", file, problem)
-                                       : fmt::format("{}: {}: {}", file, field, problem)),
+    // Shown as a terminal would show it safely: a NUL in a path no longer ends the message.
+    : std::runtime_error(io::visible(field.empty()
+                                         ? fmt::format("{}: {}", file, problem)
+                                         : fmt::format("{}: {}: {}", file, field, problem))),
       file_(std::move(file)),
       field_(std::move(field)),
       problem_(std::move(problem)) {}

@@ -1,5 +1,7 @@
 #include "viz/povray.hpp"
 
+#include "io/quoting.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -21,16 +23,6 @@ std::string num(double x) {
 
 std::string vec(const Vec3& v) {
   return fmt::format("<{}, {}, {}>", num(v.x()), num(v.y()), num(v.z()));
-}
-
-// A name for a `//` comment: control characters (a newline would end the comment and make the
-// rest of the name POV-Ray code) are shown as spaces.
-std::string commentText(std::string text) {
-  for (char& c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) c = ' ';
-  }
-  return text;
 }
 
 // POV-Ray's `matrix` maps (x, y, z) to x * row0 + y * row1 + z * row2 + row3: the rows are the
@@ -323,7 +315,7 @@ std::string povInclude(const Run& run, const Camera& camera, double aspect) {
       std::string o = shapeObject(s, round ? striped : plain);
       if (!o.empty()) objects.push_back(std::move(o));
     }
-    out += fmt::format("// body {}: {}\n", i, commentText(body.name));
+    out += fmt::format("// body {}: {}\n", i, io::povComment(body.name));
     if (objects.empty()) {
       continue;  // planes only (the ground), or nothing to draw
     } else if (objects.size() == 1) {
@@ -348,8 +340,8 @@ std::string povInclude(const Run& run, const Camera& camera, double aspect) {
       }
     }
     const double r = std::clamp(1.3 * thin, 0.01 * size, 0.04 * size);
-    out +=
-        fmt::format("// joint {}: {} ({})\n", j, commentText(joint.name), commentText(joint.type));
+    out += fmt::format("// joint {}: {} ({})\n", j, io::povComment(joint.name),
+                       io::povComment(joint.type));
     out += fmt::format("#declare LinxJoint{} = sphere {{ 0, {} texture {{ LinxJointTexture }} }}\n",
                        j, num(r));
     out += fmt::format("#declare LinxJointLinkRadius{} = {};\n", j, num(0.3 * r));
@@ -366,8 +358,8 @@ std::string povInclude(const Run& run, const Camera& camera, double aspect) {
 
 std::string povFrame(const Run& run, std::size_t index, const std::string& include_name) {
   const Frame& frame = run.frames.at(index);
-  std::string out = fmt::format("// linx render: frame {} (t = {} s)\n#include \"{}\"\n\n", index,
-                                num(frame.time), include_name);
+  std::string out = fmt::format("// linx render: frame {} (t = {} s)\n#include {}\n\n", index,
+                                num(frame.time), io::povString(include_name));
   for (std::size_t i = 0; i < run.bodies.size(); ++i) {
     if (!drawable(run.bodies[i])) continue;
     const Pose& p = frame.poses[i];

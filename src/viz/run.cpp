@@ -3,6 +3,8 @@
 // new frame, and every file must list the same times in the same order.
 #include "viz/run.hpp"
 
+#include "io/quoting.hpp"
+
 #include <linx/run_files.hpp>
 
 #include <fmt/format.h>
@@ -23,7 +25,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 RunError::RunError(const std::string& file, const std::string& field, const std::string& problem)
-    : std::runtime_error(fmt::format("{}: {}: {}", file, field, problem)) {}
+    : std::runtime_error(io::visible(fmt::format("{}: {}: {}", file, field, problem))) {}
 
 namespace {
 

@@ -175,7 +175,7 @@ function setPlaying(on) {
     state.playStartWall = performance.now();
     state.playStartTime = run.times[state.frame];
   }
-  ui.play.innerHTML = on ? '&#10074;&#10074;' : '&#9654;';
+  ui.play.textContent = on ? '\u275A\u275A' : '\u25B6';
   ui.play.setAttribute('aria-label', on ? 'Pause' : 'Play');
 }
 
