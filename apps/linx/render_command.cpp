@@ -310,7 +310,7 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& options) {
 
 int render(const RenderOptions& options) {
   validate(options);
-  const viz::Run run = viz::readRun(options.dir);
+  const viz::Run run = viz::openRun(options.dir);
   if (run.frames.empty()) throw BadInput(fmt::format("{}: the run has no frames", options.dir));
   const bool single = !options.frame.empty();
   const std::size_t single_frame = single ? frameFlag(run, options.frame) : 0;

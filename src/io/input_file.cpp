@@ -22,6 +22,20 @@ std::string size(std::uint64_t bytes) {
 
 }  // namespace
 
+namespace {
+thread_local InputLog* current_log = nullptr;
+}  // namespace
+
+InputLog::InputLog() : outer_(current_log) {
+  current_log = this;
+}
+InputLog::~InputLog() {
+  current_log = outer_;
+}
+InputLog* InputLog::current() {
+  return current_log;
+}
+
 std::string readInputFile(const fs::path& path, std::uint64_t limit, const char* kind) {
   // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below.
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
@@ -40,6 +54,9 @@ std::string readInputFile(const fs::path& path, std::uint64_t limit, const char*
     throw std::runtime_error(S_ISDIR(st.st_mode)
                                  ? "is a directory"
                                  : "not a regular file (a device, a pipe or a socket)");
+  if (InputLog* log = InputLog::current())
+    log->add(
+        {path, kind, static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino)});
   const auto bytes = static_cast<std::uint64_t>(st.st_size);
   if (bytes > limit)
     throw std::runtime_error(
