@@ -85,6 +85,7 @@ case "$case_name" in
     mkdir -p proj/plots proj/render proj/vtk/sub proj/checkpoints proj/plots/energy.png
     echo "my notes" >proj/plots/notes.txt
     echo "todo" >proj/render/todo.txt
+    echo "my frame notes" >proj/render/frame_notes.txt  # not a frame: render keeps it too
     echo "mine" >proj/vtk/mine.vtp
     echo "deep" >proj/vtk/sub/bodies_000001.vtp
     echo "backup" >proj/checkpoints/step_1.lxc.bak
