@@ -257,6 +257,10 @@ PY
     cp -r a f2 && forge frames 100000 "f2/checkpoints/$(basename "$own")"
     expect 2 "$linx" resume f2
     expect_error "linx: f2/checkpoints/$(basename "$own"): frames: 100000 frames at step 500: more than one per step and the first"
+    # A checkpoint of format version 1 (before checkpoints recorded their run folder).
+    cp -r a f3 && printf '\x01' | dd of="f3/checkpoints/$(basename "$own")" bs=1 seek=8 conv=notrunc status=none
+    expect 2 "$linx" resume f3
+    expect_error "linx: f3/checkpoints/$(basename "$own"): version: format version 1 (an older linx's, which did not record its run folder: rerun the scene); this linx reads version 2"
     # The unforged checkpoint still resumes.
     expect 0 "$linx" resume a
     ;;
