@@ -220,6 +220,25 @@ case "$case_name" in
     cp -r full c7 && sed -i '1s/kinetic_energy/kinetic_energZ/' c7/world.csv
     refused c7
     expect_error "linx: c7/checkpoints/$name: run folder: c7/world.csv: its first line is not the header 'time,kinetic_energy,potential_energy,total_energy,max_joint_error,solver_iterations,residual' (not this run's file?)"
+    # Another run's checkpoint forged, with a valid checksum, to name this folder's scene.json:
+    # its world's bodies and joints are not the folder's.
+    forge_identity() {  # forge_identity CHECKPOINT SCENE_JSON BODIES JOINTS OUT
+      python3 - "$@" <<'PY'
+import struct, sys, zlib
+src, scene, bodies, joints, out = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), sys.argv[5]
+data = open(src, "rb").read()
+payload = bytearray(data[24:-4])
+text = open(scene, "rb").read()
+struct.pack_into("<QIqq", payload, len(payload) - 28, len(text), zlib.crc32(text), bodies, joints)
+open(out, "wb").write(data[:24] + bytes(payload) + struct.pack("<I", zlib.crc32(payload)))
+PY
+    }
+    cp -r full c9 && forge_identity "$theirs" full/scene.json 1 1 c9/checkpoints/step_999999999999999.lxc
+    refused c9
+    expect_error "linx: c9/checkpoints/step_999999999999999.lxc: scene: 2 bodies and 2 joints; its run recorded 1 and 1"
+    cp -r full c10 && forge_identity "$theirs" full/scene.json 2 2 c10/checkpoints/step_999999999999999.lxc
+    refused c10
+    expect_error "linx: c10/checkpoints/step_999999999999999.lxc: scene: its bodies are not those of c10/scene.json"
     # Another run's files under this run's scene.json: the counts and the bodies differ.
     cp -r b c8 && cp full/scene.json c8/scene.json
     refused c8

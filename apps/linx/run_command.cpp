@@ -243,7 +243,7 @@ int simulate(Session& s) {
 
 // A checkpoint that lies outside its run folder (a link to another run's, or in a checkpoints
 // folder that is a link) is another run's: refused.
-void refuseOutsideLink(const fs::path& file, const fs::path& out) {
+void refuseOutsideFolder(const fs::path& file, const fs::path& out) {
   std::error_code ec;
   const fs::path target = fs::weakly_canonical(file, ec), folder = fs::weakly_canonical(out, ec);
   const auto [end, at] = std::mismatch(folder.begin(), folder.end(), target.begin(), target.end());
@@ -264,7 +264,7 @@ RunCheckpoint loadCheckpoint(const std::string& given, fs::path& out, fs::path& 
     out = fs::absolute(given).parent_path().parent_path();
     file = given;
     RunCheckpoint c = readCheckpoint(given);
-    refuseOutsideLink(file, out);
+    refuseOutsideFolder(file, out);
     return c;
   }
   out = given;
@@ -274,7 +274,7 @@ RunCheckpoint loadCheckpoint(const std::string& given, fs::path& out, fs::path& 
                                checkpointFolder(out).string()));
   // The newest is written whole or not at all; an older one serves if it was damaged since.
   for (std::size_t i = all.size(); i-- > 0;) {
-    refuseOutsideLink(all[i], out);  // not a damaged one: another run's, refused outright
+    refuseOutsideFolder(all[i], out);  // not a damaged one: another run's, refused outright
     try {
       file = all[i];
       return readCheckpoint(all[i]);
@@ -338,8 +338,8 @@ void checkRunFolder(const fs::path& file, const RunCheckpoint& c, const World& w
                           fmt::format("{} bodies and {} joints; its run recorded {} and {}",
                                       world.bodyCount(), world.jointCount(), c.bodies, c.joints));
   // The rows of a frame are the scene.json's bodies and joints: the checkpoint's world's.
+  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
   const auto names = [&](const char* key, int count, auto nameOf) {
-    const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
     const auto list = doc.is_object() ? doc.find(key) : doc.end();
     bool same = doc.is_object() && list != doc.end() && list->is_array() &&
                 list->size() == static_cast<std::size_t>(count);
