@@ -53,7 +53,8 @@ int openLocked(const fs::path& dir, int create_error) {
   const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) throw ioError("open the output folder", dir, create_error ? create_error : errno);
   try {
-    if (!io::tryLockFolder(fd, dir))
+    // Where the file system has no locks, the folder is written unlocked, as it can only be.
+    if (io::tryLockFolder(fd, dir) == io::FolderLock::kHeld)
       throw RunFolderError(fmt::format(
           "{}: another run or recording is writing into this folder (it holds the folder's "
           "lock); wait for it to end, or choose another folder",

@@ -82,12 +82,13 @@ void forEachEntry(int dir_fd, const fs::path& shown, const Visit& visit,
 
 }  // namespace
 
-bool tryLockFolder(int dir_fd, const fs::path& shown) {
+FolderLock tryLockFolder(int dir_fd, const fs::path& shown) {
   while (::flock(dir_fd, LOCK_EX | LOCK_NB) != 0) {
-    if (errno == EWOULDBLOCK) return false;
+    if (errno == EWOULDBLOCK) return FolderLock::kHeld;
+    if (errno == ENOLCK || errno == EOPNOTSUPP || errno == ENOSYS) return FolderLock::kUnsupported;
     if (errno != EINTR) throw ioError("lock", shown, errno);
   }
-  return true;
+  return FolderLock::kTaken;
 }
 
 std::vector<fs::path> earlierRunEntries(int dir_fd, const fs::path& shown) {

@@ -9,10 +9,16 @@
 
 namespace linx::io {
 
+/// What tryLockFolder found.
+enum class FolderLock {
+  kTaken,       ///< this descriptor holds the lock now (until it is closed)
+  kHeld,        ///< another descriptor holds it: a run, a recording or a repair is writing
+  kUnsupported  ///< the file system has no locks (some network ones)
+};
+
 /// Takes the folder's exclusive lock (flock on the descriptor `dir_fd`, held until the descriptor
-/// is closed). Returns false when another descriptor holds it: a run, a recording, or a repair is
-/// writing the folder. Throws ioError on any other failure.
-bool tryLockFolder(int dir_fd, const std::filesystem::path& shown);
+/// is closed). Throws ioError on any failure but those above.
+FolderLock tryLockFolder(int dir_fd, const std::filesystem::path& shown);
 
 /// The entries of an earlier run in the folder `dir_fd`, as paths inside it: each file of the run
 /// file list (a link as a link), and inside the run's folders (checkpoints/, vtk/, render/,

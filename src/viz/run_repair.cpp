@@ -62,11 +62,12 @@ Run openRun(const fs::path& dir) {
   const Descriptor folder{::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)};
   bool locked = false;
   try {
-    locked = folder.fd >= 0 && io::tryLockFolder(folder.fd, dir);
-  } catch (const std::runtime_error&) {  // a file system without locks: read as it is
+    locked = folder.fd >= 0 && io::tryLockFolder(folder.fd, dir) == io::FolderLock::kTaken;
+  } catch (const std::runtime_error&) {  // read as it is
   }
   Run run = readRun(dir);
-  if (!locked) return run;  // a run is writing it: its last frame may be on its way
+  // A run may be writing it (its last frame on its way), or no lock tells: read as it is.
+  if (!locked) return run;
   for (const auto& [name, size] : run.whole_bytes)
     cutTo(folder.fd, dir, name, static_cast<off_t>(size));
   cutTo(folder.fd, dir, std::string(run_files::kBreaks.name), -1);
