@@ -131,7 +131,7 @@ RunCheckpoint readCheckpoint(const fs::path& file) {
     throw CheckpointError(name, "state", e.what());
   }
   if (checkpoint.steps < 1 || checkpoint.every < 1 || checkpoint.checkpoint_every < 0 ||
-      checkpoint.frames < 1 || checkpoint.bodies < 1 || checkpoint.joints < 0)
+      checkpoint.frames < 1 || checkpoint.bodies < 0 || checkpoint.joints < 0)
     throw CheckpointError(name, "run", "impossible step or frame counts");
   return checkpoint;
 }
