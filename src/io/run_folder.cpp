@@ -60,8 +60,7 @@ void forEachEntry(int dir_fd, const fs::path& shown, const Visit& visit,
       ::close(fd);
       throw ioError("read", shown / name, error);
     }
-    std::vector<std::string> children;
-    errno = 0;
+    std::vector<std::string> children;  // collected first: removing while reading skips entries
     while (const dirent* entry = ::readdir(dir)) {
       if (run_files::isFolderEntry(file, entry->d_name)) children.emplace_back(entry->d_name);
     }
