@@ -11,9 +11,9 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <memory>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -122,8 +122,13 @@ TEST_F(RunFolder, ARecorderRemovesOnlyTheRunsOwnNames) {
   for (const char* name : {"vtk", "render", "plots"}) EXPECT_TRUE(fs::is_directory(dir_ / name));
   fs::remove_all(dir_ / "vtk");
   write(dir_ / "vtk/joints_000003.vtp", "old run");
-  linx::Recorder again(dir_);
+  { linx::Recorder again(dir_); }
   EXPECT_FALSE(fs::exists(dir_ / "vtk"));
+  // A file of the user's named like a run folder is not one.
+  fs::remove_all(dir_ / "plots");
+  write(dir_ / "plots", "a file of mine");
+  { linx::Recorder again(dir_); }
+  EXPECT_EQ(read(dir_ / "plots"), "a file of mine");
 }
 
 TEST_F(RunFolder, ASecondRecorderIntoAnOpenFolderIsRefusedAndTheFirstGoesOn) {
