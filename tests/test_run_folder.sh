@@ -89,6 +89,7 @@ case "$case_name" in
     echo "mine" >proj/vtk/mine.vtp
     echo "deep" >proj/vtk/sub/bodies_000001.vtp
     echo "backup" >proj/checkpoints/step_1.lxc.bak
+    echo "mine" >proj/checkpoints/step_-1.lxc  # not a step number: never pruned as the oldest checkpoint
     echo "notes" >proj/notes.txt
     echo "picture" >proj/plots/energy.png/inside.txt  # a folder where linx writes a file
     tree_of proj >before.txt

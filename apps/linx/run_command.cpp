@@ -126,7 +126,9 @@ std::vector<fs::path> checkpoints(const fs::path& out) {
   for (fs::directory_iterator it(checkpointFolder(out), ec), end; !ec && it != end;
        it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.starts_with("step_") && name.ends_with(".lxc")) found.push_back(it->path());
+    // step_N.lxc only: another file of the folder is the user's, never taken or pruned.
+    if (run_files::matchesPattern(run_files::kCheckpointNames[0], name))
+      found.push_back(it->path());
   }
   std::sort(found.begin(), found.end());
   return found;
