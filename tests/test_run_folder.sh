@@ -317,8 +317,7 @@ PY
     ;;
 
   lock)
-    # A folder a run is writing: another run into it is refused, and so is a resume; a command
-    # that opens it does not cut it.
+    # A folder a run is writing: another run into it is refused, and so is a resume.
     "$linx" run "$examples/pyramid.json" --duration 60 --out live --checkpoint-every 0.1 >/dev/null 2>&1 &
     live_pid=$!
     for _ in $(seq 500); do
@@ -332,8 +331,8 @@ PY
     expect 2 "$linx" resume live
     expect_error_line "linx: live/checkpoints/"
     grep -q "another run or recording is writing into this folder" err.txt || fail "resume was not refused"
-    expect 0 "$linx" vtk live
-    grep -q "cut" err.txt && fail "a live folder was cut"
+    # (That a command reading the live folder does not cut it is test_run_folder's
+    # OpenRunCutsATornRowOnlyWhenNoRecorderHoldsTheFolder: here the files grow while read.)
     kill -INT "$live_pid"; wait "$live_pid"; live_pid=""
     # Once it has stopped, the folder is free.
     expect 0 "$linx" run good.json --out live --duration 0.01
