@@ -226,7 +226,7 @@ case "$case_name" in
     # A run folder whose run files would include the scene itself.
     mkdir here && cp good.json here/scene.json
     expect 2 "$linx" run here/scene.json --out here
-    expect_error_line "linx: --out: here: the run would replace its own input here/scene.json (scene.json is a run file); choose another folder"
+    expect_error_line "linx: --out: here: the run would replace its own input here/scene.json (a scene; scene.json is a run file); move it out of the folder, or choose another folder"
     [ "$(cat here/scene.json)" = "$(cat good.json)" ] || fail "the scene was changed"
     expect 2 "$linx" run good.json --out out --timestep=-1
     [ "$(cat err.txt)" = "linx: --timestep: must be a finite number > 0, got -1" ] || fail "--timestep message"

@@ -194,7 +194,7 @@ int plot(const PlotOptions& options) {
     if (value < 100 || value > 10000)
       throw BadInput(fmt::format("{}: must be an integer in [100, 10000], got {}", flag, value));
   }
-  const viz::Run run = viz::readRun(options.dir);
+  const viz::Run run = viz::openRun(options.dir);
   const fs::path out =
       options.out.empty() ? fs::path(options.dir) / "plots" : fs::path(options.out);
   checkOutputFolder("--out", out);

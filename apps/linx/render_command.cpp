@@ -11,6 +11,8 @@
 #include "viz/povray.hpp"
 #include "viz/run.hpp"
 
+#include <linx/run_files.hpp>
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -240,11 +242,13 @@ void makeVideo(const std::string& ffmpeg, const fs::path& folder, const fs::path
     throw std::runtime_error(fmt::format("{}: cannot write: {}", video.string(), ec.message()));
 }
 
-// Removes the frames, scenes and logs of an earlier render (it may have had more frames).
+// Removes the frames, scenes and logs of an earlier render (it may have had more frames): only
+// the names a render writes (run_files.hpp), never a file of the user's in the folder.
 void removeOldFrames(const fs::path& folder) {
   std::error_code ec;
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
+    if (!run_files::isFolderEntry(run_files::kRenderFrames, name)) continue;
     if (name.rfind("frame_", 0) == 0 || name.rfind(".frame_", 0) == 0 || name == "povray.log") {
       std::error_code remove_ec;
       fs::remove(it->path(), remove_ec);
@@ -311,7 +315,7 @@ void addRenderOptions(CLI::App& cmd, RenderOptions& options) {
 
 int render(const RenderOptions& options) {
   validate(options);
-  const viz::Run run = viz::readRun(options.dir);
+  const viz::Run run = viz::openRun(options.dir);
   if (run.frames.empty()) throw BadInput(fmt::format("{}: the run has no frames", options.dir));
   const bool single = !options.frame.empty();
   const std::size_t single_frame = single ? frameFlag(run, options.frame) : 0;

@@ -13,8 +13,14 @@
 #include <linx/linx.hpp>
 #include <linx/run_files.hpp>
 
+#include "io/input_file.hpp"
+#include "io/run_folder.hpp"
+
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -125,7 +131,9 @@ std::vector<fs::path> checkpoints(const fs::path& out) {
   for (fs::directory_iterator it(checkpointFolder(out), ec), end; !ec && it != end;
        it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.starts_with("step_") && name.ends_with(".lxc")) found.push_back(it->path());
+    // step_N.lxc only: another file of the folder is the user's, never taken or pruned.
+    if (run_files::matchesPattern(run_files::kCheckpointNames[0], name))
+      found.push_back(it->path());
   }
   std::sort(found.begin(), found.end());
   return found;
@@ -238,13 +246,30 @@ int simulate(Session& s) {
   return 0;
 }
 
-// The newest checkpoint that reads, of a file or a run folder.
-RunCheckpoint loadCheckpoint(const std::string& given, fs::path& out) {
+// A checkpoint that lies outside its run folder (a link to another run's, or in a checkpoints
+// folder that is a link) is another run's: refused.
+void refuseOutsideFolder(const fs::path& file, const fs::path& out) {
+  std::error_code ec;
+  const fs::path target = fs::weakly_canonical(file, ec), folder = fs::weakly_canonical(out, ec);
+  const auto [end, at] = std::mismatch(folder.begin(), folder.end(), target.begin(), target.end());
+  if (end == folder.end()) return;
+  throw CheckpointError(
+      file.string(), "file",
+      fmt::format("{} {}, outside the run folder {}: another run's checkpoint; resume that run's "
+                  "own folder",
+                  fs::is_symlink(file, ec) ? "a link to" : "lies in a linked folder, at",
+                  target.string(), out.string()));
+}
+
+// The newest checkpoint that reads, of a file or a run folder; `file` is set to it.
+RunCheckpoint loadCheckpoint(const std::string& given, fs::path& out, fs::path& file) {
   std::error_code ec;
   if (!fs::is_directory(given, ec)) {
-    RunCheckpoint c = readCheckpoint(given);
     // DIR/checkpoints/FILE: the run folder is the checkpoint folder's parent.
     out = fs::absolute(given).parent_path().parent_path();
+    file = given;
+    RunCheckpoint c = readCheckpoint(given);
+    refuseOutsideFolder(file, out);
     return c;
   }
   out = given;
@@ -254,7 +279,9 @@ RunCheckpoint loadCheckpoint(const std::string& given, fs::path& out) {
                                checkpointFolder(out).string()));
   // The newest is written whole or not at all; an older one serves if it was damaged since.
   for (std::size_t i = all.size(); i-- > 0;) {
+    refuseOutsideFolder(all[i], out);  // not a damaged one: another run's, refused outright
     try {
+      file = all[i];
       return readCheckpoint(all[i]);
     } catch (const CheckpointError& e) {
       if (i == 0) throw;
@@ -262,6 +289,112 @@ RunCheckpoint loadCheckpoint(const std::string& given, fs::path& out) {
     }
   }
   throw BadInput(fmt::format("{}: no checkpoint reads", given));
+}
+
+// Refuses a checkpoint whose counts would make more work than its scene's run: its steps are
+// at most the scene's duration / timestep + 1, the world's step, time and frames within them.
+void checkBounds(const fs::path& file, const RunCheckpoint& c, const Scene& scene,
+                 const World& world) {
+  const double h = scene.settings.timestep;
+  const double most = std::floor(scene.duration / h) + 1;
+  const std::string name = file.string();
+  if (static_cast<double>(c.steps) > most)
+    throw CheckpointError(name, "steps",
+                          fmt::format("{} steps, more than its scene's duration / timestep + 1 "
+                                      "({} s / {} s + 1 = {:.0f})",
+                                      c.steps, scene.duration, h, most));
+  const std::int64_t step = world.stepCount();
+  if (step < 0)
+    throw CheckpointError(name, "state", fmt::format("step {} is before the start", step));
+  if (!(world.time() >= 0 && world.time() <= static_cast<double>(c.steps + 1) * h))
+    throw CheckpointError(name, "state",
+                          fmt::format("time {} s is outside the run (0 to (steps + 1) * timestep "
+                                      "= {} s)",
+                                      world.time(), static_cast<double>(c.steps + 1) * h));
+  if (c.frames > step + 1)
+    throw CheckpointError(
+        name, "frames",
+        fmt::format("{} frames at step {}: more than one per step and the first", c.frames, step));
+}
+
+// Refuses a checkpoint that is not of the run in `out`: the folder's scene.json must be the one
+// the checkpoint's run wrote, with the bodies and joints of the checkpoint's world, in order.
+void checkRunFolder(const fs::path& file, const RunCheckpoint& c, const World& world,
+                    const fs::path& out) {
+  const std::string name = file.string();
+  const fs::path scene_path = out / run_files::kScene.name;
+  std::string text;
+  try {
+    text = io::readInputFile(scene_path, io::kSceneLimit, "a scene");
+  } catch (const std::runtime_error& e) {
+    throw CheckpointError(name, "run folder",
+                          fmt::format("{}: {}: the folder holds no run to go on with",
+                                      scene_path.string(), e.what()));
+  }
+  if (text.size() != c.run_scene_bytes || checksumOf(text) != c.run_scene_crc)
+    throw CheckpointError(
+        name, "run folder",
+        fmt::format("{} is not the scene.json of the checkpoint's run ({} bytes, CRC-32 {:08x}; "
+                    "the run wrote {} bytes, CRC-32 {:08x}): another run's checkpoint?",
+                    scene_path.string(), text.size(), checksumOf(text), c.run_scene_bytes,
+                    c.run_scene_crc));
+  if (world.bodyCount() != c.bodies || world.jointCount() != c.joints)
+    throw CheckpointError(name, "scene",
+                          fmt::format("{} bodies and {} joints; its run recorded {} and {}",
+                                      world.bodyCount(), world.jointCount(), c.bodies, c.joints));
+  // The rows of a frame are the scene.json's bodies and joints: the checkpoint's world's.
+  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+  const auto names = [&](const char* key, int count, auto nameOf) {
+    const auto list = doc.is_object() ? doc.find(key) : doc.end();
+    bool same = doc.is_object() && list != doc.end() && list->is_array() &&
+                list->size() == static_cast<std::size_t>(count);
+    for (int i = 0; same && i < count; ++i) {
+      const nlohmann::json& item = (*list)[static_cast<std::size_t>(i)];
+      same = item.is_object() && item.contains("name") && item["name"].is_string() &&
+             item["name"].get<std::string>() == nameOf(i);
+    }
+    if (!same)
+      throw CheckpointError(name, "scene",
+                            fmt::format("its {} are not those of {}", key, scene_path.string()));
+  };
+  names("bodies", world.bodyCount(), [&](int i) { return world.body(BodyId{i}).name(); });
+  names("joints", world.jointCount(), [&](int i) { return world.joint(JointId{i}).name(); });
+}
+
+// The recorder of a new run in `out`: a folder that cannot take it (another run writes it, a
+// folder of the user's is in the way) is bad input.
+Recorder openRecorder(const std::string& out, const RunCheckpoint& run) {
+  try {
+    return Recorder(out, RecorderOptions{.contacts = run.contacts, .breaks = run.breaks});
+  } catch (const RunFolderError& e) {
+    throw BadInput(fmt::format("--out: {}", e.what()));
+  }
+}
+
+// Refuses a run that would remove or replace one of the files its scene was read from: an input
+// that is one of the earlier run's entries in `out` (run_files.hpp), by its identity (device and
+// inode), so that a link to it, or a path through a linked folder, is found too.
+void refuseOwnInputs(const std::vector<io::InputRead>& inputs, const std::string& out) {
+  const int dir_fd = ::open(out.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir_fd < 0) return;  // no folder yet: nothing of it is read
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{dir_fd};
+  for (const fs::path& entry : io::earlierRunEntries(dir_fd, out)) {
+    // The entry itself: a link is removed as a link, what it points to is kept.
+    struct stat st {};
+    if (::fstatat(dir_fd, entry.c_str(), &st, AT_SYMLINK_NOFOLLOW) != 0) continue;
+    for (const io::InputRead& input : inputs) {
+      if (input.device != static_cast<std::uint64_t>(st.st_dev) ||
+          input.inode != static_cast<std::uint64_t>(st.st_ino))
+        continue;
+      throw BadInput(fmt::format(
+          "--out: {}: the run would replace its own input {} ({}; {} is a run file); move it "
+          "out of the folder, or choose another folder",
+          out, input.path.string(), input.kind, entry.string()));
+    }
+  }
 }
 
 }  // namespace
@@ -292,21 +425,10 @@ int run(const RunOptions& options) {
   if (options.every < 1)
     throw BadInput(fmt::format("--every: must be at least 1, got {}", options.every));
   checkOutputFolder("--out", options.out);
-  std::error_code ec;
-  // A run clears its folder's run files: never the scene it is about to read.
-  const fs::path input = fs::weakly_canonical(fs::absolute(options.scene), ec);
-  for (const run_files::RunFile& file : run_files::kAll) {
-    std::string name(file.name);
-    if (name.back() == '/') name.pop_back();
-    const fs::path output = fs::weakly_canonical(fs::absolute(fs::path(options.out) / name), ec);
-    const auto [end, at] = std::mismatch(output.begin(), output.end(), input.begin(), input.end());
-    if (end == output.end())  // the input is that file, or in that folder
-      throw BadInput(
-          fmt::format("--out: {}: the run would replace its own input {} ({} is a run "
-                      "file); choose another folder",
-                      options.out, options.scene, name));
-  }
+  // Every file the scene reads is logged, so that none of them is one the run replaces.
+  const io::InputLog inputs;
   Prepared p = prepare(options);
+  refuseOwnInputs(inputs.files(), options.out);
   bool breakable = false;
   for (const SceneJoint& j : p.scene.joints)
     breakable = breakable || j.def.break_force || j.def.break_torque;
@@ -322,16 +444,19 @@ int run(const RunOptions& options) {
   run.breaks = breakable;
   run.keep_going = options.keep_going;
 
+  run.bodies = p.world.bodyCount();
+  run.joints = p.world.jointCount();
+
   const StopSignals stop_signals;
   // Replaces an earlier run in the folder; every frame is on disk once recorded
   // (docs/reliability.md), so a run stopped at any point keeps what it recorded.
-  Session s{std::move(p.world),
-            Recorder(options.out, RecorderOptions{.contacts = run.contacts, .breaks = run.breaks}),
-            options.out, std::move(run)};
+  Session s{std::move(p.world), openRecorder(options.out, run), options.out, std::move(run)};
   s.recorder.record(s.world);
   s.run.frames = 1;
-  s.recorder.writeFile(std::string(run_files::kScene.name),
-                       runSceneJson(p.scene, s.world, options.every));
+  const std::string scene_json = runSceneJson(p.scene, s.world, options.every);
+  s.run.run_scene_bytes = scene_json.size();
+  s.run.run_scene_crc = checksumOf(scene_json);
+  s.recorder.writeFile(std::string(run_files::kScene.name), scene_json);
   const int status = simulate(s);
   if (status != 0) return status;
   if (options.vtk) writeVtk(options.out);
@@ -340,33 +465,48 @@ int run(const RunOptions& options) {
 }
 
 int resume(const std::string& given, std::optional<bool> keep_going) {
-  fs::path out;
-  RunCheckpoint c = loadCheckpoint(given, out);
+  fs::path out, file;
+  RunCheckpoint c = loadCheckpoint(given, out, file);
   if (keep_going) c.keep_going = *keep_going;
+  std::optional<Scene> loaded;
   std::optional<World> built;
-  whileLoading(given,
-               [&] { built.emplace(buildWorld(parseScene(c.scene, given + " (its scene)"))); });
+  whileLoading(given, [&] {
+    loaded.emplace(parseScene(c.scene, file.string() + " (its scene)"));
+    built.emplace(buildWorld(*loaded));
+  });
+  const Scene& scene = *loaded;
   World world = std::move(*built);
   try {
     world.restoreState(c.state);
   } catch (const std::invalid_argument& e) {
-    throw CheckpointError(given, "state", e.what());
+    throw CheckpointError(file.string(), "state", e.what());
   }
   if (c.keep_going) world.settings().faults.stop = false;
   if (world.stepCount() >= c.steps)
     throw BadInput(
         fmt::format("{}: the run had ended (step {} of {})", given, world.stepCount(), c.steps));
-  const StopSignals stop_signals;
-  say(stderr, "linx: resuming {} at step {} (t = {} s) in {}\n", c.source, world.stepCount(),
-      world.time(), out.string());
+  checkBounds(file, c, scene, world);
+  checkRunFolder(file, c, world, out);
   const RecorderOptions recording{.contacts = c.contacts, .breaks = c.breaks};
   const RecorderPosition at = c.output;
-  Session s{std::move(world), Recorder(out, recording, at), out, std::move(c)};
+  // Reopens the files, cut back to the checkpoint, under the folder's lock: refused when a file
+  // is missing, shorter than then, or not its kind (its header), with nothing changed.
+  const auto reopen = [&] {
+    try {
+      return Recorder(out, recording, at);
+    } catch (const RunFolderError& e) {
+      throw CheckpointError(file.string(), "run folder", e.what());
+    }
+  };
+  const StopSignals stop_signals;
+  Session s{std::move(world), reopen(), out, std::move(c)};
+  say(stderr, "linx: resuming {} at step {} (t = {} s) in {}\n", s.run.source, s.world.stepCount(),
+      s.world.time(), out.string());
   return simulate(s);
 }
 
 int writeVtk(const std::string& dir) {
-  const viz::Run run = viz::readRun(dir);
+  const viz::Run run = viz::openRun(dir);
   const viz::VtkSummary written = viz::writeVtk(run, dir);
   say("wrote {} ({} frames in {})\n", written.collection.string(), written.frames,
       written.folder.string());

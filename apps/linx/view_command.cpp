@@ -144,7 +144,7 @@ int view(const ViewOptions& options) {
   if (options.port < 0 || options.port > 65535)
     throw BadInput(fmt::format("--port: must be an integer in [0, 65535], got {}", options.port));
   // Check the folder up front: a bad run is reported now (exit 2), not in the browser.
-  const viz::Run run = viz::readRun(options.dir);
+  const viz::Run run = viz::openRun(options.dir);
   const std::filesystem::path dir = options.dir;
 
   const RunFiles files(dir);

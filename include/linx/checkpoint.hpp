@@ -12,11 +12,13 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace linx {
 
 /// The checkpoint format this linx writes and reads.
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+/// (2: with the identity of the run folder it belongs to, RunCheckpoint::run_scene_bytes ...)
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 /// A checkpoint that cannot be read: "FILE: FIELD: PROBLEM".
 class CheckpointError : public std::runtime_error {
@@ -36,7 +38,15 @@ struct RunCheckpoint {
   std::int64_t frames = 0;            ///< frames recorded when the checkpoint was taken
   RecorderPosition output;            ///< the files' sizes then
   WorldState state;                   ///< the world then (World::saveState)
+  /// What identifies the run folder the checkpoint belongs to: its scene.json as the run wrote it
+  /// (size and CRC-32), and the bodies and joints of its world (the rows of a frame).
+  std::uint64_t run_scene_bytes = 0;
+  std::uint32_t run_scene_crc = 0;
+  std::int64_t bodies = 0, joints = 0;
 };
+
+/// The CRC-32 (zlib) of `text`: how a checkpoint identifies its run's scene.json.
+std::uint32_t checksumOf(std::string_view text);
 
 /// Writes `checkpoint` to `file`, complete or not at all (a temporary file in the same folder,
 /// forced to disk and renamed into place). Throws std::runtime_error naming the file.

@@ -11,8 +11,9 @@
 // What survives (docs/reliability.md): every frame is handed to the operating system before
 // record() returns, so killing the process at any moment (SIGKILL included) leaves each file
 // complete up to its last frame but one at worst, where the last may end part-way (readers drop
-// it). Opening a recorder first removes an earlier run's files from DIR (only the names of the
-// run file list, scene.json first), so old and new files are never mixed. Nothing is ever removed
+// it). Opening a recorder takes the folder's lock (one writer at a time), then removes an earlier
+// run's files from DIR (only the names of the run file list, scene.json first), so old and new
+// files are never mixed. Nothing is ever removed
 // afterwards, and every file is reached through the folder opened at the start: if DIR is renamed
 // or replaced during the run, the run goes on writing into the folder it opened.
 #pragma once
@@ -23,9 +24,17 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 namespace linx {
+
+/// The output folder cannot take a recording: another run or recording holds its lock, a folder
+/// of the user's is where a run file goes, or (resuming) a file is not the checkpoint's run's.
+class RunFolderError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct RecorderOptions {
   bool contacts = false;  ///< also write contacts.csv: every contact point of each recorded step
@@ -43,12 +52,16 @@ struct RecorderPosition {
 
 class Recorder {
  public:
-  /// Creates DIR if needed, removes an earlier run's files from it and creates the CSV files with
-  /// their headers. Throws std::runtime_error naming the file and the reason on failure.
+  /// Creates DIR if needed, takes its lock (held until finish() or the destructor), removes an
+  /// earlier run's files from it (run_files.hpp's names only) and creates the CSV files with
+  /// their headers. Throws RunFolderError when another run or recording holds the folder, or a
+  /// folder is where a run file goes (nothing is removed then); std::runtime_error naming the
+  /// file and the reason on other failures.
   explicit Recorder(const std::filesystem::path& dir, const RecorderOptions& options = {});
-  /// Reopens the files of a run in DIR to go on from `at` (a checkpoint's position): each is cut
-  /// back to its size there, and nothing else in DIR changes. Throws std::runtime_error when a
-  /// file is missing or shorter than that (the folder is not the checkpoint's run).
+  /// Reopens the files of a run in DIR to go on from `at` (a checkpoint's position), holding the
+  /// folder's lock: each is cut back to its size there, and nothing else in DIR changes. Throws
+  /// RunFolderError (nothing changed) when the folder is locked, or a file is missing, not a
+  /// file, shorter than that, or does not start with its header (not the checkpoint's run).
   Recorder(const std::filesystem::path& dir, const RecorderOptions& options,
            const RecorderPosition& at);
   ~Recorder();  ///< closes the files (what was recorded stays)

@@ -75,6 +75,8 @@ void translate(std::exception_ptr p) {
     raise(types.closed, e.what());
   } catch (const WorldBusy& e) {
     raise(types.busy, e.what());
+  } catch (const RunFolderError& e) {  // a folder another recording or run is writing
+    raise(types.error, e.what());
   }
   // Everything else: pybind11's own translation (invalid_argument -> ValueError, out_of_range
   // -> IndexError, runtime_error -> RuntimeError, bad_alloc -> MemoryError).

@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 namespace py = pybind11;
 
@@ -31,7 +32,15 @@ class Recording {
     recorder_->writeFile(std::string(run_files::kScene.name), runSceneJson(scene, start, every));
   }
 
-  void record() { open().record(owner_->world()); }
+  // One frame per time: a record() at the time of the last frame (no step since, as right after
+  // World.record, which wrote the state then) writes nothing.
+  void record() {
+    Recorder& recorder = open();
+    const World& world = owner_->world();
+    if (last_time_ && *last_time_ == world.time()) return;
+    recorder.record(world);
+    last_time_ = world.time();
+  }
   void close() {
     if (recorder_) recorder_->finish();
     recorder_.reset();
@@ -47,6 +56,7 @@ class Recording {
   std::shared_ptr<PyWorld> owner_;
   std::unique_ptr<Recorder> recorder_;
   std::filesystem::path dir_;
+  std::optional<double> last_time_;  // of the last frame written
 };
 
 }  // namespace
@@ -56,7 +66,9 @@ void bindRecording(py::module_& m, py::class_<PyWorld, std::shared_ptr<PyWorld>>
                         "A run folder being written (World.record): call record() after the "
                         "steps to keep, close() at the end (or use it in a with block).")
       .def("record", &Recording::record,
-           "Appends the world's current state as a frame (bodies.csv, joints.csv, world.csv).")
+           "Appends the world's current state as a frame (bodies.csv, joints.csv, world.csv); "
+           "at the time of the last frame (no step since) it writes nothing: one frame per "
+           "time.")
       .def("close", &Recording::close, "Forces the files to disk and closes them.")
       .def_property_readonly("dir", &Recording::dir, "The run folder.")
       .def("__enter__", [](py::object self) { return self; })
@@ -72,8 +84,9 @@ void bindRecording(py::module_& m, py::class_<PyWorld, std::shared_ptr<PyWorld>>
       py::arg("dir"), py::kw_only(), py::arg("every") = 1, py::arg("contacts") = false,
       "Starts a run folder in `dir` (as `linx run --out` writes it: earlier run files there are "
       "removed) with the current state as its first frame; `every` is the steps between the "
-      "frames you will record (it sets the viewer's playback). linx.render() and linx.view() "
-      "take the folder.");
+      "frames you will record (it sets the viewer's playback). The recording holds the folder's "
+      "lock until close(): a folder another recording or run is writing raises linx.Error. "
+      "linx.render() and linx.view() take the folder.");
 }
 
 }  // namespace linx::python

@@ -259,6 +259,8 @@ void bindWorld(py::module_& m) {
         // Not a run's: one "frame" (the state itself) of a run that ends here, without files.
         checkpoint.steps = std::max<std::int64_t>(1, self.world().stepCount());
         checkpoint.frames = 1;
+        checkpoint.bodies = self.world().bodyCount();
+        checkpoint.joints = self.world().jointCount();
         checkpoint.state = self.world().saveState();
         writeCheckpoint(path, checkpoint);
       },

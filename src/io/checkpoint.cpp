@@ -5,6 +5,7 @@
 //   length       u64 of the payload
 //   payload      the RunCheckpoint's fields, state::Archive order (below)
 //   checksum     u32 CRC-32 (zlib) of the payload
+// Version 2 adds the identity of the run folder (RunCheckpoint::run_scene_bytes ... joints).
 // A reader refuses anything else: another magic, version or byte order, a length that does not
 // match the file's, a checksum that does not match the payload.
 #include <linx/checkpoint.hpp>
@@ -49,7 +50,8 @@ std::uint32_t crc32Of(std::span<const std::byte> data) {
 
 void persist(state::Archive& a, RunCheckpoint& c) {
   a.fields(c.scene, c.source, c.steps, c.every, c.checkpoint_every, c.contacts, c.breaks,
-           c.keep_going, c.frames, c.output.bytes, c.output.breaks, c.state.bytes);
+           c.keep_going, c.frames, c.output.bytes, c.output.breaks, c.state.bytes,
+           c.run_scene_bytes, c.run_scene_crc, c.bodies, c.joints);
 }
 
 template <class T>
@@ -59,6 +61,10 @@ void put(std::vector<std::byte>& out, const T& value) {
 }
 
 }  // namespace
+
+std::uint32_t checksumOf(std::string_view text) {
+  return crc32Of(std::as_bytes(std::span(text.data(), text.size())));
+}
 
 CheckpointError::CheckpointError(const std::string& file, const std::string& field,
                                  const std::string& problem)
@@ -102,7 +108,11 @@ RunCheckpoint readCheckpoint(const fs::path& file) {
   if (version != kCheckpointVersion)
     throw CheckpointError(
         name, "version",
-        fmt::format("format version {}; this linx reads version {}", version, kCheckpointVersion));
+        fmt::format("format version {}{}; this linx reads version {}", version,
+                    version < kCheckpointVersion
+                        ? " (an older linx's, which did not record its run folder: rerun the scene)"
+                        : " (a newer linx's)",
+                    kCheckpointVersion));
   if (const std::size_t held = bytes.size() - kHeaderSize - kTrailerSize; length != held)
     throw CheckpointError(name, "length",
                           fmt::format("the header says {} bytes of state, the file holds {} ({})",
@@ -122,7 +132,7 @@ RunCheckpoint readCheckpoint(const fs::path& file) {
     throw CheckpointError(name, "state", e.what());
   }
   if (checkpoint.steps < 1 || checkpoint.every < 1 || checkpoint.checkpoint_every < 0 ||
-      checkpoint.frames < 1)
+      checkpoint.frames < 1 || checkpoint.bodies < 0 || checkpoint.joints < 0)
     throw CheckpointError(name, "run", "impossible step or frame counts");
   return checkpoint;
 }

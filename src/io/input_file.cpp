@@ -24,6 +24,20 @@ std::string size(std::uint64_t bytes) {
 
 }  // namespace
 
+namespace {
+thread_local InputLog* current_log = nullptr;
+}  // namespace
+
+InputLog::InputLog() : outer_(current_log) {
+  current_log = this;
+}
+InputLog::~InputLog() {
+  current_log = outer_;
+}
+InputLog* InputLog::current() {
+  return current_log;
+}
+
 std::string readInputFile(const fs::path& path, std::uint64_t limit, const char* kind) {
   // The system would open the name only up to the NUL: another file than the one named.
   if (path.native().find('\0') != std::string::npos)
@@ -45,6 +59,9 @@ std::string readInputFile(const fs::path& path, std::uint64_t limit, const char*
     throw std::runtime_error(S_ISDIR(st.st_mode)
                                  ? "is a directory"
                                  : "not a regular file (a device, a pipe or a socket)");
+  if (InputLog* log = InputLog::current())
+    log->add(
+        {path, kind, static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino)});
   const auto bytes = static_cast<std::uint64_t>(st.st_size);
   if (bytes > limit)
     throw std::runtime_error(

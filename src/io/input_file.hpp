@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace linx::io {
 
@@ -21,6 +22,33 @@ inline constexpr std::uint64_t kTableLimit = 256 * kMiB;  ///< a CSV table of a 
 /// file or directory", "not a regular file (a device, a pipe or a folder)", "is 600 MiB, above
 /// the limit of 512 MiB for a mesh"): callers name the file and the field.
 std::string readInputFile(const std::filesystem::path& path, std::uint64_t limit, const char* kind);
+
+/// A file that readInputFile read: the path it was given, the kind of file ("a table"), and the
+/// file's identity (device and inode, links followed).
+struct InputRead {
+  std::filesystem::path path;
+  std::string kind;
+  std::uint64_t device = 0, inode = 0;
+};
+
+/// Keeps a list of every file readInputFile reads on this thread while it lives (the files a
+/// scene loads: itself, its model files and includes, meshes, tables), so that a run can refuse
+/// to replace one of its own inputs. Logs nest: the innermost one records.
+class InputLog {
+ public:
+  InputLog();
+  ~InputLog();
+  InputLog(const InputLog&) = delete;
+  InputLog& operator=(const InputLog&) = delete;
+  const std::vector<InputRead>& files() const { return files_; }
+  /// The log open on this thread, or nullptr.
+  static InputLog* current();
+  void add(InputRead read) { files_.push_back(std::move(read)); }
+
+ private:
+  InputLog* outer_;
+  std::vector<InputRead> files_;
+};
 
 /// Throws std::runtime_error unless `path` (links followed) lies inside `folder` (links followed)
 /// or `allowed` (--allow-outside-paths).

@@ -7,8 +7,8 @@
 #include <linx/run_files.hpp>
 
 #include "io/output_file.hpp"
+#include "io/run_folder.hpp"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
@@ -48,32 +48,22 @@ std::string csvField(std::string_view text) {
   return quoted + '"';
 }
 
-// Removes the entry `name` of the folder `dir_fd`: a file or a link (never what a link points
-// to), or a folder with everything in it. A missing entry is fine.
-void removeEntry(int dir_fd, const char* name, const fs::path& shown) {
-  if (::unlinkat(dir_fd, name, 0) == 0 || errno == ENOENT) return;
-  if (errno != EISDIR && errno != EPERM) throw ioError("remove", shown, errno);
-  const int fd = ::openat(dir_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-  if (fd < 0) throw ioError("open", shown, errno);
-  DIR* folder = ::fdopendir(fd);
-  if (!folder) {
-    const int error = errno;
-    ::close(fd);
-    throw ioError("read", shown, error);
-  }
+// Opens the output folder and takes its lock (io::tryLockFolder): one writer at a time.
+int openLocked(const fs::path& dir, int create_error) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) throw ioError("open the output folder", dir, create_error ? create_error : errno);
   try {
-    while (const dirent* entry = ::readdir(folder)) {
-      const std::string_view child = entry->d_name;
-      if (child == "." || child == "..") continue;
-      removeEntry(fd, entry->d_name, shown / child);
-    }
+    // Where the file system has no locks, the folder is written unlocked, as it can only be.
+    if (io::tryLockFolder(fd, dir) == io::FolderLock::kHeld)
+      throw RunFolderError(fmt::format(
+          "{}: another run or recording is writing into this folder (it holds the folder's "
+          "lock); wait for it to end, or choose another folder",
+          dir.string()));
   } catch (...) {
-    ::closedir(folder);
+    ::close(fd);
     throw;
   }
-  ::closedir(folder);
-  if (::unlinkat(dir_fd, name, AT_REMOVEDIR) != 0 && errno != ENOENT)
-    throw ioError("remove", shown, errno);
+  return fd;
 }
 
 }  // namespace
@@ -100,17 +90,26 @@ Recorder::Recorder(const fs::path& dir, const RecorderOptions& options)
   std::error_code ec;
   fs::create_directories(dir_, ec);
   Files& f = *files_;
-  f.dir_fd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (f.dir_fd < 0) throw ioError("open the output folder", dir_, ec ? ec.value() : errno);
+  f.dir_fd = openLocked(dir_, ec ? ec.value() : 0);
 
-  // An earlier run's files, scene.json first: a folder with a scene.json never mixes two runs.
-  for (const run_files::RunFile& file : run_files::kAll) {
-    std::string name(file.name);
-    if (name.back() == '/') name.pop_back();
-    removeEntry(f.dir_fd, name.c_str(), dir_ / name);
+  // A folder of the user's where this run writes a file is refused before anything is removed.
+  const auto writes = [&](int i) {
+    return !((i == kContacts && !options.contacts) || (i == kBreaks && !options.breaks));
+  };
+  for (int i = -1; i < kOutputCount; ++i) {
+    if (i >= 0 && !writes(i)) continue;
+    const std::string name(i < 0 ? run_files::kScene.name : kOutputs[i].name);
+    struct stat st {};
+    if (::fstatat(f.dir_fd, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(st.st_mode))
+      throw RunFolderError(fmt::format(
+          "{}: a folder where the run writes its file {}: linx leaves it alone; move it, or "
+          "choose another folder",
+          (dir_ / name).string(), name));
   }
+  // An earlier run's files, scene.json first: a folder with a scene.json never mixes two runs.
+  io::clearEarlierRun(f.dir_fd, dir_);
   for (int i = 0; i < kOutputCount; ++i) {
-    if ((i == kContacts && !options.contacts) || (i == kBreaks && !options.breaks)) continue;
+    if (!writes(i)) continue;
     const std::string name(kOutputs[i].name);
     f.fd[i] = ::openat(f.dir_fd, name.c_str(),
                        O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
@@ -124,24 +123,46 @@ Recorder::Recorder(const fs::path& dir, const RecorderOptions& options)
 Recorder::Recorder(const fs::path& dir, const RecorderOptions& options, const RecorderPosition& at)
     : dir_(dir), files_(std::make_unique<Files>()), position_(at) {
   Files& f = *files_;
-  f.dir_fd = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (f.dir_fd < 0) throw ioError("open the output folder", dir_, errno);
+  f.dir_fd = openLocked(dir_, 0);
   for (int i = 0; i < kOutputCount; ++i) {
     if ((i == kContacts && !options.contacts) || (i == kBreaks && !options.breaks)) continue;
     const fs::path path = dir_ / kOutputs[i].name;
     const std::string name(kOutputs[i].name);
-    f.fd[i] = ::openat(f.dir_fd, name.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC);
-    if (f.fd[i] < 0) throw ioError("reopen", path, errno);
+    f.fd[i] = ::openat(f.dir_fd, name.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+    if (f.fd[i] < 0)
+      throw RunFolderError(fmt::format(
+          "{}: {}", path.string(),
+          errno == ENOENT ? std::string("missing") : std::generic_category().message(errno)));
     struct stat st {};
     const std::uint64_t size = at.bytes[static_cast<std::size_t>(i)];
     if (::fstat(f.fd[i], &st) != 0) throw ioError("reopen", path, errno);
+    if (!S_ISREG(st.st_mode)) throw RunFolderError(fmt::format("{}: not a file", path.string()));
     if (static_cast<std::uint64_t>(st.st_size) < size)
-      throw std::runtime_error(fmt::format(
-          "cannot resume {}: {} bytes, the checkpoint's run had written {} (not this run's file?)",
-          path.string(), st.st_size, size));
-    if (::ftruncate(f.fd[i], static_cast<off_t>(size)) != 0 ||
-        ::lseek(f.fd[i], static_cast<off_t>(size), SEEK_SET) < 0)
-      throw ioError("cut back", path, errno);
+      throw RunFolderError(
+          fmt::format("{}: {} bytes, shorter than the {} the checkpoint's run had "
+                      "written (not this run's file?)",
+                      path.string(), st.st_size, size));
+    // The header this run wrote: a file of another kind, or of another version, is not its own.
+    const std::string header = fmt::format("{}\n", kOutputs[i].header);
+    std::string first(header.size(), '\0');
+    const ssize_t n = ::pread(f.fd[i], first.data(), first.size(), 0);
+    if (n != static_cast<ssize_t>(first.size()) || first != header)
+      throw RunFolderError(
+          fmt::format("{}: its first line is not the header '{}' (not this "
+                      "run's file?)",
+                      path.string(), kOutputs[i].header));
+    if (size < header.size())
+      throw RunFolderError(
+          fmt::format("{}: the checkpoint's run had written {} bytes, less than "
+                      "the header",
+                      path.string(), size));
+  }
+  // Every file checked first: a folder that is not the checkpoint's run is left as it was.
+  for (int i = 0; i < kOutputCount; ++i) {
+    if (f.fd[i] < 0) continue;
+    const auto size = static_cast<off_t>(at.bytes[static_cast<std::size_t>(i)]);
+    if (::ftruncate(f.fd[i], size) != 0 || ::lseek(f.fd[i], size, SEEK_SET) < 0)
+      throw ioError("cut back", dir_ / kOutputs[i].name, errno);
   }
 }
 

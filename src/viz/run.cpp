@@ -232,6 +232,7 @@ class SceneJson {
 struct Record {
   int line = 0;
   std::vector<std::string> fields;
+  std::size_t end = 0;  // the offset just past its line break
 };
 
 std::vector<Record> parseCsv(const std::string& text, const std::string& file) {
@@ -266,6 +267,7 @@ std::vector<Record> parseCsv(const std::string& text, const std::string& file) {
       current.fields.push_back(std::move(field));
       field.clear();
       field_started = false;
+      current.end = i + 1;
       records.push_back(std::move(current));
       current = Record{++line, {}};
     } else {
@@ -318,6 +320,8 @@ class CsvFile {
   }
 
   std::size_t rows() const { return records_.size() - 1; }
+  /// The size of the file up to the end of its first `n` rows (0: the header alone).
+  std::uint64_t bytesTo(std::size_t n) const { return records_[n].end; }
   const std::vector<std::string>& row(std::size_t i) const { return records_[i + 1].fields; }
 
   [[noreturn]] void fail(std::size_t i, const std::string& problem) const {
@@ -407,6 +411,10 @@ Run readRun(const fs::path& dir) {
   check(bodies, nb, nb == 1 ? "body" : "bodies");
   if (nj > 0) check(joints, nj, nj == 1 ? "joint" : "joints");
   check(world, 1, "row");
+  run.whole_bytes[std::string(run_files::kBodies.name)] = bodies.bytesTo(frames * nb);
+  if (nj > 0 || joints.rows() == 0)
+    run.whole_bytes[std::string(run_files::kJoints.name)] = joints.bytesTo(frames * nj);
+  run.whole_bytes[std::string(run_files::kWorld.name)] = world.bytesTo(frames);
   run.frames.resize(frames);
   for (std::size_t f = 0; f < frames; ++f) {
     Frame& frame = run.frames[f];
@@ -471,7 +479,7 @@ Run readRun(const fs::path& dir) {
     run.has_contacts = true;
     const CsvFile contacts(contacts_path, columns(run_files::kContacts));
     run.truncated = run.truncated || contacts.truncated();
-    std::size_t f = 0;
+    std::size_t f = 0, read = 0;  // rows read: those of the frames read
     for (std::size_t r = 0; r < contacts.rows(); ++r) {
       const double t = contacts.number(r, 0);
       if (t > run.frames.back().time && run.truncated) break;  // a frame the others lack
@@ -490,7 +498,9 @@ Run readRun(const fs::path& dir) {
       c.depth = contacts.number(r, 9);
       c.normal_impulse = contacts.number(r, 10);
       run.frames[f].contacts.push_back(c);
+      read = r + 1;
     }
+    run.whole_bytes[std::string(run_files::kContacts.name)] = contacts.bytesTo(read);
   }
   return run;
 }

@@ -8,7 +8,9 @@
 #include <linx/shape.hpp>
 #include <linx/types.hpp>
 
+#include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -70,12 +72,22 @@ struct Run {
   /// The files ended part-way through a frame (a run killed while writing it): the frames every
   /// file holds in full were read, the rest left out.
   bool truncated = false;
+  /// Each CSV file read (by its name in the folder) and its size up to the end of the last frame
+  /// read: what a file torn by a kill is cut back to (openRun).
+  std::map<std::string, std::uint64_t> whole_bytes;
 };
 
 /// Reads a `linx run` output folder, also one whose run was killed or stopped part-way (the
 /// complete frames). Throws RunError naming the file, the field or line, and the problem (a
 /// missing scene.json says to rerun with a linx that writes it).
 Run readRun(const std::filesystem::path& dir);
+
+/// Reads a run folder as a linx command opens it: first, unless a run or recording is writing the
+/// folder (holds its lock, io::tryLockFolder), the rows that a killed run left after its last
+/// whole frame (a torn row, a frame not in every file) are cut off, each CSV file truncated to
+/// the frames readRun reads, so that other readers (pandas, numpy) see whole rows only. A note
+/// on stderr names each file cut. A folder that cannot be written is read as it is.
+Run openRun(const std::filesystem::path& dir);
 
 /// World position of a point given in body `body`'s frame (the world frame for -1) at `frame`.
 Vec3 worldPoint(const Frame& frame, int body, const Vec3& local);
