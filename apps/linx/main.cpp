@@ -71,6 +71,13 @@ int convert(const ConvertOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(options.output, ec))
     throw BadInput(fmt::format("{}: is a directory, expected a file to write", options.output));
+  // A device or a pipe is no file to replace: renaming over /dev/null as root would make it one.
+  if (const auto status = std::filesystem::symlink_status(options.output, ec);
+      !ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) &&
+      !std::filesystem::is_symlink(status))
+    throw BadInput(fmt::format(
+        "{}: not a regular file (a device, a pipe or a socket), expected a file to write",
+        options.output));
   linx::Scene scene;
   linx::cli::whileLoading(options.input, [&] {
     scene = linx::loadModel(

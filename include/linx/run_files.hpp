@@ -31,8 +31,10 @@ inline constexpr std::array<std::string_view, 6> kVtkNames = {
     "bodies_#.vtp.tmp", "joints_#.vtp.tmp", "contacts_#.vtp.tmp"};
 /// POV-Ray scenes, pictures and logs of `linx render` (apps/linx/render_command.cpp): frame_N of
 /// a whole render, still_N of --frame.
-inline constexpr std::array<std::string_view, 18> kRenderNames = {"scene.inc",
+inline constexpr std::array<std::string_view, 20> kRenderNames = {"scene.inc",
                                                                   ".scene.inc.tmp",
+                                                                  "linx.ini",
+                                                                  ".linx.ini.tmp",
                                                                   "povray.log",
                                                                   "ffmpeg.log",
                                                                   "frame_#.pov",

@@ -1,6 +1,7 @@
 #include "io/output_file.hpp"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -38,6 +39,14 @@ void writeAll(int fd, std::string_view data, const fs::path& shown) {
 void writeFileAtomically(const fs::path& path, std::string_view data, int dir_fd,
                          const fs::path& shown) {
   const fs::path& name = shown.empty() ? path : shown;
+  // Only a file (or a link, replaced as a link) is replaced: renaming over a device, a pipe or a
+  // socket would put a file in its place (as root, /dev/null).
+  struct stat existing {};
+  if (::fstatat(dir_fd, path.c_str(), &existing, AT_SYMLINK_NOFOLLOW) == 0 &&
+      !S_ISREG(existing.st_mode) && !S_ISLNK(existing.st_mode))
+    throw std::runtime_error(
+        fmt::format("cannot write {}: not a regular file (a device, a pipe, a socket or a folder)",
+                    name.string()));
   const std::string temp =
       (path.parent_path() / fmt::format(".{}.tmp", path.filename().string())).string();
   const int fd =
