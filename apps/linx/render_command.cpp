@@ -351,7 +351,9 @@ int render(const RenderOptions& options) {
   // sets nothing, as every option is on povray's command line.
   const fs::path ini = folder / "linx.ini";
   io::writeFileAtomically(ini, "; linx render: povray's options are on its command line\n");
-  ::setenv("POVINI", fs::absolute(ini).c_str(), 1);
+  // By its plain name: povray runs in that folder, and reads the variable as an option, so a
+  // folder path holding spaces, brackets or '&' would be an option it cannot set.
+  ::setenv("POVINI", ini.filename().c_str(), 1);
 
   const std::vector<std::size_t> frames =
       single ? std::vector<std::size_t>{single_frame} : viz::pickFrames(run, options.fps);
