@@ -341,15 +341,16 @@ EOF
       expect 0 "$linx" vtk out
     done
 
-    # A step that takes far longer than a second (a thousand hinges between the same two bodies:
-    # one dense solve of 5000 rows) is not waited for.
+    # A step that takes far longer than a second (a thousand hinges between the same two bodies,
+    # on one axis but each at its own point, so not refused as repeats: one dense solve of 5000
+    # rows) is not waited for.
     {
       echo '{"duration": 1, "bodies": ['
       echo '{"name": "a", "mass": 1, "inertia": [1, 1, 1], "position": [0, 0, 0]},'
       echo '{"name": "b", "mass": 1, "inertia": [1, 1, 1], "position": [1, 0, 0]}], "joints": ['
       for i in $(seq 1000); do
         [ "$i" -gt 1 ] && echo ','
-        echo "{\"name\": \"h$i\", \"type\": \"hinge\", \"body1\": \"a\", \"body2\": \"b\", \"anchor\": [0.5, 0, 0], \"axis\": [0, 0, 1]}"
+        echo "{\"name\": \"h$i\", \"type\": \"hinge\", \"body1\": \"a\", \"body2\": \"b\", \"anchor\": [0.5, 0, $i], \"axis\": [0, 0, 1]}"
       done
       echo ']}'
     } >redundant.json
