@@ -352,6 +352,15 @@ void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vecto
     joints::contactRows(r.point, stateOf(bodies, BodyId{r.body_a}),
                         stateOf(bodies, BodyId{r.body_b}), law, h, rows[at[0]],
                         std::span<Row, 2>(&rows[at[1]], 2), r.t1, r.t2);
+    if (spring) {  // not split: it bounces, or pushes, whichever is faster (contactRows' rule)
+      Row& n = rows[at[0]];
+      if (n.speed > 0.0 && n.phi < 0.0) {
+        if (n.speed > -(n.erp / h) * n.phi)
+          n.phi = 0.0;
+        else
+          n.speed = 0.0;
+      }
+    }
     for (std::size_t k = 0; k < 3; ++k) {
       Row& row = rows[at[k]];
       row.body_a = a.isStatic() ? -1 : r.body_a;
