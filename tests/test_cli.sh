@@ -262,48 +262,55 @@ case "$case_name" in
     ;;
 
   non_finite)
-    # A free body fast enough that its position overflows to infinity at the third step (under a
-    # speed bound lifted to let it get there).
+    # A free body fast enough that it passes the extent bound (1e8 m, linx/bounds.hpp) at the
+    # third step (under a speed bound lifted to let it get there).
     cat >runaway.json <<'EOF'
 {
-  "gravity": [0, 0, 0], "timestep": 0.5, "duration": 2, "faults": {"max_speed": 1.7e308},
+  "gravity": [0, 0, 0], "timestep": 0.5, "duration": 2, "faults": {"max_speed": 1e8},
   "bodies": [{"name": "runaway", "mass": 1, "inertia": [1, 1, 1],
-              "linear_velocity": [1.5e308, 0, 0]}]
+              "linear_velocity": [8e7, 0, 0]}]
 }
 EOF
     expect 3 "$linx" run runaway.json --out out
-    expect_error_line "linx: runaway.json: bodies[0] (runaway): position is not finite after step 3 (t = 1.5 s); output kept up to t = 1 s in out; the last good state (t = 0 s) is in out/checkpoints/step_000000000000000.lxc"
+    expect_error_line "linx: runaway.json: bodies[0] (runaway): position 1.2e+08 m from the origin is beyond 1e+08 m, where doubles are too coarse to resolve a contact within the slop, after step 3 (t = 1.5 s); output kept up to t = 1 s in out; the last good state (t = 0 s) is in out/checkpoints/step_000000000000000.lxc"
     # The frames before the fault are kept, whole: t = 0, 0.5 and 1.
     [ "$(cut -d, -f1 out/world.csv | tr '\n' ' ')" = "time 0 0.5 1 " ] ||
       fail "world.csv of the faulted run: $(cat out/world.csv)"
     # Resumed from its last good state, it meets the same fault at the same step.
     expect 3 "$linx" resume out
-    grep -q "position is not finite after step 3 (t = 1.5 s)" err.txt || fail "resume: another fault"
+    grep -q "is beyond 1e+08 m, .* after step 3 (t = 1.5 s)" err.txt || fail "resume: another fault"
 
     # Under the default speed bound the same body is refused by the check: it would stop at once.
-    sed 's/, "faults": {"max_speed": 1.7e308}//' runaway.json >fast.json
+    sed 's/, "faults": {"max_speed": 1e8}//' runaway.json >fast.json
     expect 2 "$linx" check fast.json
-    expect_error_line "linx: fast.json: bodies[0].linear_velocity: the body starts at 1.5e+308 m/s, above faults.max_speed (10000 m/s) (raise the bound to allow it)"
+    expect_error_line "linx: fast.json: bodies[0].linear_velocity: the body starts at 8e+07 m/s, above faults.max_speed (10000 m/s) (raise the bound to allow it)"
 
-    # A body that gravity makes too fast stops at the step where it passes the bound.
+    # A body that gravity makes too fast stops at the step where it passes the bound; the check
+    # refuses it, as the first step would stop on it.
     cat >bound.json <<'EOF'
 {
-  "gravity": [1e308, 0, 0], "timestep": 0.5, "duration": 2,
+  "gravity": [3e4, 0, 0], "timestep": 0.5, "duration": 2,
   "bodies": [{"name": "runaway", "mass": 1, "inertia": [1, 1, 1]}]
 }
 EOF
+    expect 2 "$linx" check bound.json
+    expect_error_line "linx: bound.json: the first step would stop: bodies[0] (runaway): speed 15000 m/s is above faults.max_speed (10000 m/s) after step 1 (t = 0.5 s)"
     expect 3 "$linx" run bound.json --out bound
-    expect_error_line "linx: bound.json: bodies[0] (runaway): speed 5e+307 m/s is above faults.max_speed (10000 m/s) after step 1 (t = 0.5 s); output kept up to t = 0 s in bound; the last good state (t = 0 s) is in bound/checkpoints/step_000000000000000.lxc"
-    # Resumed from there with --on-fault continue, it warns and goes on to the non-finite state.
-    expect 3 "$linx" resume bound --on-fault continue
-    [ "$(grep -c "after step [123] .*; going on (--on-fault continue)" err.txt)" -eq 3 ] ||
-      fail "resume --on-fault continue: expected three warnings"
-    grep -q "position is not finite after step 4" err.txt || fail "resume --on-fault continue: no stop"
-    # --on-fault continue: a warning per fault, and the run goes on (to the non-finite state).
-    expect 3 "$linx" run bound.json --out bound --on-fault continue
-    [ "$(grep -c "linx: warning: bound.json: bodies\\[0\\] (runaway): speed .* m/s is above faults.max_speed (10000 m/s) after step [123] .*; going on (--on-fault continue)" err.txt)" -eq 3 ] ||
-      fail "--on-fault continue: expected three warnings"
-    grep -q "position is not finite after step 4" err.txt || fail "--on-fault continue: no stop"
+    expect_error_line "linx: bound.json: bodies[0] (runaway): speed 15000 m/s is above faults.max_speed (10000 m/s) after step 1 (t = 0.5 s); output kept up to t = 0 s in bound; the last good state (t = 0 s) is in bound/checkpoints/step_000000000000000.lxc"
+    # Resumed from there with --on-fault continue, it warns at each step and goes on to the end.
+    expect 0 "$linx" resume bound --on-fault continue
+    [ "$(grep -c "after step [1234] .*; going on (--on-fault continue)" err.txt)" -eq 4 ] ||
+      fail "resume --on-fault continue: expected four warnings"
+    # --on-fault continue: a warning per fault, and the run goes on.
+    expect 0 "$linx" run bound.json --out bound --on-fault continue
+    [ "$(grep -c "linx: warning: bound.json: bodies\\[0\\] (runaway): speed .* m/s is above faults.max_speed (10000 m/s) after step [1234] .*; going on (--on-fault continue)" err.txt)" -eq 4 ] ||
+      fail "--on-fault continue: expected four warnings"
+    # An energy too large for a double stops the run even then (gravity 1e308: the body's kinetic
+    # energy after one step, (g h)^2 / 2, is infinite).
+    sed 's/3e4, 0, 0/1e308, 0, 0/' bound.json >infinite.json
+    expect 3 "$linx" run infinite.json --out infinite --on-fault continue
+    grep -q "bodies\[0\] (runaway): energy is not finite (kinetic inf J" err.txt ||
+      fail "--on-fault continue: no stop on an infinite energy"
     ;;
 
   interrupt)

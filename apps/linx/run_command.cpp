@@ -10,6 +10,7 @@
 #include "viz/run.hpp"
 #include "viz/vtk.hpp"
 
+#include <linx/bounds.hpp>
 #include <linx/linx.hpp>
 #include <linx/run_files.hpp>
 
@@ -51,6 +52,14 @@ constexpr std::size_t kFaultWarnings = 10;
 
 // The number of steps of a run, round(duration / timestep); at least one.
 std::int64_t stepCount(const Scene& scene, const RunOptions& options) {
+  if (const double h = scene.settings.timestep; !(h >= kMinTimestep)) {
+    const std::string problem = fmt::format(
+        "{:g} s is below {:g} s, the shortest step whose square (the step forms h^2) is a normal "
+        "double",
+        h, kMinTimestep);
+    if (options.timestep) throw BadInput("--timestep: " + problem);
+    throw SceneError(scene.file, "timestep", problem);
+  }
   const double steps = std::round(scene.duration / scene.settings.timestep);
   if (steps >= 1 && steps <= kMaxSteps) return static_cast<std::int64_t>(steps);
   const std::string problem =
@@ -399,8 +408,22 @@ void refuseOwnInputs(const std::vector<io::InputRead>& inputs, const std::string
 
 }  // namespace
 
+// What the first step would stop on (a fault: a state or an energy that is not finite, a bound
+// passed; with faults.stop false all but the first are kept) is found by taking it, and refused
+// with the fault's message, which names the body (the accurate integrator's, the body and the
+// joints of its island): masses, inertias, loads, gravity or gains that the step cannot hold in a
+// double, which no bound on one field finds.
+void checkFirstStep(const Scene& scene, World& world) {
+  try {
+    world.step();
+  } catch (const StepFault& fault) {
+    throw SceneError(scene.file, "", fmt::format("the first step would stop: {}", fault.what()));
+  }
+}
+
 int check(const RunOptions& options) {
-  const Prepared p = prepare(options);
+  Prepared p = prepare(options);
+  checkFirstStep(p.scene, p.world);
   const auto count = [](std::size_t n, const char* one, const char* many) {
     return fmt::format("{} {}", n, n == 1 ? one : many);
   };

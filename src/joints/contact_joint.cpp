@@ -42,7 +42,8 @@ void contactRows(const collision::ContactPoint& c, const BodyState& a, const Bod
   if (gap > 0.0) {  // speculative: reach the surface by the end of the step, no sooner
     normal.phi = gap;
     normal.erp = 1.0;
-  } else {  // penetrating: push out what lies beyond the slop, at max_push_out at most
+  } else {  // penetrating: push out what lies beyond the slop, at max_push_out at most, by a
+            // split impulse (the positions move, the velocity keeps none of it)
     normal.phi = std::min(0.0, gap + law.slop);
     normal.erp = law.erp;
     if (normal.erp * -normal.phi > law.max_push_out * h)
@@ -52,7 +53,9 @@ void contactRows(const collision::ContactPoint& c, const BodyState& a, const Bod
   if (law.restitution > 0.0 && approach > law.restitution_threshold &&
       approach * h >= std::max(gap, 0.0)) {
     const double bounce = law.restitution * approach;
-    if (bounce > normal.target(h)) {
+    if (gap <= 0.0) {
+      normal.speed = bounce;  // the penetration is still pushed out, by the split impulse
+    } else if (bounce > normal.target(h)) {
       normal.speed = bounce;
       normal.phi = 0.0;
     }

@@ -137,9 +137,42 @@ void AccurateIntegrator::rates(std::span<const Motion> state, double time, std::
     const Vec3 arm = anchorArm(forces[k]);
     forces[k].Ja.tail<3>() -= arm.cross(forces[k].Ja.head<3>());
   }
-  for (const Motion& r : rate)
-    if (!(r.v.allFinite() && r.w.allFinite()))
-      throw std::domain_error("accurate integrator: the accelerations are not finite");
+  for (std::size_t n = 0; n < rate.size(); ++n)
+    if (!(rate[n].v.allFinite() && rate[n].w.allFinite()))
+      throw std::domain_error(fmt::format(
+          "accurate integrator: the accelerations of {} are not finite (masses, inertias, loads, "
+          "gravity or gains beyond what a double holds?)",
+          namedIsland(ids_[n])));
+}
+
+std::string AccurateIntegrator::namedIsland(int body) const {
+  // The bodies the joints link to `body` among those moved here, and those joints, in order.
+  std::vector<int> bodies{body};
+  std::vector<std::size_t> joints;
+  for (std::size_t k = 0; k < bodies.size(); ++k)
+    for (std::size_t j = 0; j < joints_.size(); ++j) {
+      const int a = joints_[j]->body1().index, b = joints_[j]->body2().index;
+      if (a != bodies[k] && b != bodies[k]) continue;
+      if (std::find(joints.begin(), joints.end(), j) == joints.end()) joints.push_back(j);
+      for (const int other : {a, b})
+        if (other >= 0 && std::find(ids_.begin(), ids_.end(), other) != ids_.end() &&
+            std::find(bodies.begin(), bodies.end(), other) == bodies.end())
+          bodies.push_back(other);
+    }
+  constexpr std::size_t kNamed = 4;
+  const auto list = [&](auto&& items, auto&& name) {
+    std::string out;
+    for (std::size_t k = 0; k < items.size() && k < kNamed; ++k)
+      out += (k ? ", " : "") + name(items[k]);
+    if (items.size() > kNamed) out += fmt::format(" and {} more", items.size() - kNamed);
+    return out;
+  };
+  const std::string named_bodies = list(bodies, [&](int i) {
+    return fmt::format("bodies[{}] ({})", i, bodies_[static_cast<std::size_t>(i)].name());
+  });
+  if (joints.empty()) return named_bodies;
+  return named_bodies + " and joints " +
+         list(joints, [&](std::size_t j) { return fmt::format("'{}'", joints_[j]->def().name); });
 }
 
 double AccurateIntegrator::bodyError(std::size_t n, double tolerance) const {

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -156,6 +157,9 @@ class AccurateIntegrator {
   /// bodies, or of the n-th.
   double errorNorm(double tolerance) const;
   double bodyError(std::size_t n, double tolerance) const;
+  /// Names body `body` (a world index) with the bodies moved here and the joints that link it to
+  /// them, for messages: "bodies[2] (bob), bodies[1] (arm) and joints 'pivot', 'elbow'".
+  std::string namedIsland(int body) const;
   /// Adds a step's impulses; with `only`, those of the rows on a body it flags.
   void addImpulses(double dt, std::span<const std::uint8_t> only);
 

@@ -1,5 +1,7 @@
 #include "step/check.hpp"
 
+#include <linx/bounds.hpp>
+
 #include "dynamics/energy.hpp"
 #include "world/state_archive.hpp"
 
@@ -50,9 +52,16 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
         fmt::format("bodies[{}] ({}): {} is not finite after step {} (t = {} s)", i,
                     bodies[static_cast<std::size_t>(i)].name(), what, step, time),
         i, step, time);
-  checkSpeeds(bodies, settings, step, time);
-  if (!settings.energy) return;
+  // An energy that is not finite stops the run. A bound passed names its cause better (a body at
+  // 1e200 m/s), but with faults.stop false the bound's fault is kept and the world would step on.
   const Energy after = dynamics::computeEnergy(bodies, gravity);
+  const bool finite = std::isfinite(after.total());
+  if (finite || settings.stop) {
+    checkSpeeds(bodies, settings, step, time);
+    checkPositions(bodies, step, time);
+  }
+  if (!finite) throwNonFiniteEnergy(bodies, gravity, step, time);
+  if (!settings.energy) return;
   if (std::isfinite(after.kinetic)) kinetic_peak_ = std::max(kinetic_peak_, after.kinetic);
   // Driven, its energy may rise; an energy too large for a double is left to the state check.
   if (loaded_ || motors || !std::isfinite(after.total()) || !std::isfinite(before_)) return;
@@ -88,6 +97,38 @@ void FaultCheck::end(std::span<const Body> bodies, const Vec3& gravity,
           "timestep or more solver.substeps help; docs/solver.md)",
           rise, bound, step, time, body),
       fastest, step, time, rise, bound);
+}
+
+void FaultCheck::throwNonFiniteEnergy(std::span<const Body> bodies, const Vec3& gravity,
+                                      std::int64_t step, double time) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const Body& b = bodies[i];
+    if (!b.isDynamic()) continue;
+    const double kinetic = kineticEnergy(b), potential = -b.mass() * gravity.dot(b.position());
+    if (std::isfinite(kinetic + potential)) continue;
+    throw NonFiniteState(
+        fmt::format("bodies[{}] ({}): energy is not finite (kinetic {:.6g} J, potential {:.6g} J "
+                    "at {:.6g} m from the origin) after step {} (t = {} s)",
+                    i, b.name(), kinetic, potential, b.position().stableNorm(), step, time),
+        static_cast<int>(i), step, time);
+  }
+  throw NonFiniteState(fmt::format("the world's energy is not finite (the bodies' sum is beyond "
+                                   "a double) after step {} (t = {} s)",
+                                   step, time),
+                       -1, step, time);
+}
+
+void FaultCheck::checkPositions(std::span<const Body> bodies, std::int64_t step, double time) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const Body& b = bodies[i];
+    if (b.isStatic() || !(b.position().cwiseAbs().maxCoeff() > kMaxExtent)) continue;
+    throw BoundExceeded(
+        fmt::format("bodies[{}] ({}): position {:.6g} m from the origin is beyond {:g} m, where "
+                    "doubles are too coarse to resolve a contact within the slop, after step {} "
+                    "(t = {} s)",
+                    i, b.name(), b.position().stableNorm(), kMaxExtent, step, time),
+        static_cast<int>(i), -1, step, time);
+  }
 }
 
 void FaultCheck::checkSpeeds(std::span<const Body> bodies, const FaultSettings& settings,

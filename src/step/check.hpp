@@ -30,6 +30,13 @@ class FaultCheck {
   /// max_angular_speed.
   static void checkSpeeds(std::span<const Body> bodies, const FaultSettings& settings,
                           std::int64_t step, double time);
+  /// Throws BoundExceeded for the first body that is not static whose position is beyond
+  /// kMaxExtent (linx/bounds.hpp) from the origin.
+  static void checkPositions(std::span<const Body> bodies, std::int64_t step, double time);
+  /// Throws NonFiniteState naming the first body whose energy (kinetic and gravitational) is not
+  /// finite, or the world's when only the sum is not.
+  [[noreturn]] static void throwNonFiniteEnergy(std::span<const Body> bodies, const Vec3& gravity,
+                                                std::int64_t step, double time);
   /// Reads or writes the sums carried from step to step (World::saveState).
   void persist(state::Archive& archive);
 

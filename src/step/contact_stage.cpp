@@ -11,6 +11,7 @@
 #include "collision/geometry.hpp"
 #include "parallel/parallel_for.hpp"
 #include "step/assembly.hpp"
+#include "step/split_impulse.hpp"
 
 namespace linx::step {
 
@@ -23,7 +24,8 @@ constexpr std::ptrdiff_t kParallelContacts = 1024;
 constexpr std::ptrdiff_t kParallelShapes = 2048;
 
 /// Identity of a contact across steps: bit 63 (a contact, not a joint), the two global shape
-/// indices and the feature id; the low two bits stay free for the row slot.
+/// indices and the feature id; bit 62 and the low two bits stay free for the rows (a spring
+/// contact's normal row, step/split_impulse.hpp; the row slot).
 std::uint64_t contactKey(int shape_a, int shape_b, std::uint32_t feature) {
   // The pair and the whole 32-bit feature do not fit in 61 bits: mix them (splitmix64 steps), so
   // that two points share a key only by a 2^-61 chance (and then merely share a warm start).
@@ -36,7 +38,7 @@ std::uint64_t contactKey(int shape_a, int shape_b, std::uint32_t feature) {
       (static_cast<std::uint64_t>(static_cast<std::uint32_t>(shape_a)) << 32) |
       static_cast<std::uint32_t>(shape_b);
   const std::uint64_t h = mix(mix(pair) ^ feature);
-  return (std::uint64_t{1} << 63) | (h & ~std::uint64_t{3} & ~(std::uint64_t{1} << 63));
+  return kContactKey | (h & ~std::uint64_t{3} & ~kContactKey & ~kSpringContactKey);
 }
 
 /// The pair's law: friction sqrt(mu_a mu_b) (a frictionless side makes the pair frictionless),
@@ -333,6 +335,8 @@ void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vecto
   rows.insert(rows.end(), 3 * records_.size(), blank);
   lambda.resize(rows.size(), 0.0);
   if (warm_start) findPrevious();
+  // A contact spring's push is a force (the laws of this step's records are made with these).
+  const bool spring = detected_settings_.stiffness && detected_settings_.damping;
   const auto count = static_cast<std::ptrdiff_t>(records_.size());
   parallel::forEach(count, threads, kParallelContacts, [&](std::ptrdiff_t index) {
     const auto c = static_cast<std::size_t>(index);
@@ -348,11 +352,21 @@ void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vecto
     joints::contactRows(r.point, stateOf(bodies, BodyId{r.body_a}),
                         stateOf(bodies, BodyId{r.body_b}), law, h, rows[at[0]],
                         std::span<Row, 2>(&rows[at[1]], 2), r.t1, r.t2);
+    if (spring) {  // not split: it bounces, or pushes, whichever is faster (contactRows' rule)
+      Row& n = rows[at[0]];
+      if (n.speed > 0.0 && n.phi < 0.0) {
+        if (n.speed > -(n.erp / h) * n.phi)
+          n.phi = 0.0;
+        else
+          n.speed = 0.0;
+      }
+    }
     for (std::size_t k = 0; k < 3; ++k) {
       Row& row = rows[at[k]];
       row.body_a = a.isStatic() ? -1 : r.body_a;
       row.body_b = b.isStatic() ? -1 : r.body_b;
       row.key |= r.key;
+      if (k == 0 && spring) row.key |= kSpringContactKey;  // its push stays in the velocity
       if (row.normal >= 0) row.normal = r.row;
     }
     if (warm_start) {

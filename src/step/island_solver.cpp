@@ -1,6 +1,7 @@
 #include "step/island_solver.hpp"
 
 #include "parallel/parallel_for.hpp"
+#include "step/split_impulse.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -40,12 +41,40 @@ void merge(SolverReport& total, const SolverReport& report) {
   total.converged = total.converged && report.converged;
 }
 
+/// The split impulse of an island gathered in `out` (solveIslands), whose split rows' errors
+/// were taken out of the velocity solve into `push_phi` (one per row, 0 for the others): the
+/// pseudo velocities of the island's own bodies into `push`, by the same solver on the same rows,
+/// each targetting -(erp / h) phi of its push_phi, from bodies at rest and no impulse.
+void solvePush(std::span<const int> own, double h, solver::ConstraintSolver& solver,
+               const SolverSettings& settings, IslandProblem& out, std::span<PushVelocity> push,
+               int threads) {
+  if (std::none_of(out.push_phi.begin(), out.push_phi.end(), [](double p) { return p < 0.0; }))
+    return;
+  for (std::size_t j = 0; j < out.rows.size(); ++j) {
+    Row& r = out.rows[j];
+    r.speed = 0.0;
+    r.phi = out.push_phi[j];
+  }
+  out.push_bodies.resize(out.bodies.size());
+  for (std::size_t l = 0; l < out.bodies.size(); ++l)
+    out.push_bodies[l] = solver::SolverBody{out.bodies[l].inv_mass, out.bodies[l].inv_inertia,
+                                            Vec3::Zero(), Vec3::Zero()};
+  out.push_lambda.assign(out.rows.size(), 0.0);
+  solver::Problem problem{out.rows, out.push_bodies, out.push_lambda, h, threads};
+  solver.solve(problem, settings);
+  for (std::size_t l = 0; l < own.size(); ++l)
+    push[static_cast<std::size_t>(own[l])] =
+        PushVelocity{out.push_bodies[l].v, out.push_bodies[l].w};
+}
+
 /// Gathers island i into `out`, solves it with `solver` on `threads` and scatters the impulses
-/// and its own bodies' velocities back. Writes only the island's rows and bodies.
+/// and its own bodies' velocities back, and their pseudo velocities into `push` (solvePush).
+/// Writes only the island's rows and bodies.
 SolverReport solveIsland(int i, const Islands& islands, std::span<const Row> rows,
                          std::span<solver::SolverBody> bodies, std::span<double> lambda, double h,
                          solver::ConstraintSolver& solver, const SolverSettings& settings,
-                         const IslandWorkspace& work, IslandProblem& out, int threads) {
+                         const IslandWorkspace& work, std::span<PushVelocity> push,
+                         IslandProblem& out, int threads) {
   const int* begin = work.row_list.data() + work.row_start[static_cast<std::size_t>(i)];
   const auto m = static_cast<std::size_t>(work.row_start[static_cast<std::size_t>(i) + 1] -
                                           work.row_start[static_cast<std::size_t>(i)]);
@@ -70,6 +99,7 @@ SolverReport solveIsland(int i, const Islands& islands, std::span<const Row> row
 
   out.rows.resize(m);
   out.lambda.resize(m);
+  out.push_phi.resize(m);
   parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows, [&](std::ptrdiff_t j) {
     const auto k = static_cast<std::size_t>(begin[j]);
     Row& r = out.rows[static_cast<std::size_t>(j)];
@@ -80,6 +110,9 @@ SolverReport solveIsland(int i, const Islands& islands, std::span<const Row> row
     r.body_d = local(r.body_d);
     if (r.normal >= 0) r.normal = work.local_row[static_cast<std::size_t>(r.normal)];
     out.lambda[static_cast<std::size_t>(j)] = lambda[k];
+    // A penetration goes to the split impulse: the velocity solve holds J u+ = speed.
+    out.push_phi[static_cast<std::size_t>(j)] = splitsPenetration(r) ? r.phi : 0.0;
+    if (splitsPenetration(r)) r.phi = 0.0;
   });
   out.bodies.resize(own.size() + out.statics.size());
   parallel::forEach(static_cast<std::ptrdiff_t>(own.size()), threads, kParallelRows,
@@ -92,6 +125,7 @@ SolverReport solveIsland(int i, const Islands& islands, std::span<const Row> row
 
   solver::Problem problem{out.rows, out.bodies, out.lambda, h, threads};
   const SolverReport report = solver.solve(problem, settings);
+  solvePush(own, h, solver, settings, out, push, threads);
 
   parallel::forEach(static_cast<std::ptrdiff_t>(m), threads, kParallelRows, [&](std::ptrdiff_t j) {
     lambda[static_cast<std::size_t>(begin[j])] = out.lambda[static_cast<std::size_t>(j)];
@@ -147,6 +181,7 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
       throw std::invalid_argument("solveIslands: a friction row's normal row is in another island");
   });
   bucketByIsland(work.row_island, count, work.row_start, work.row_list);
+  work.push.assign(bodies.size(), PushVelocity{});
 
   // Local numbers: a row among its island's rows, a movable body among its island's bodies. Each
   // row and body is in one island at most, so every island's numbers can be written at once.
@@ -179,7 +214,7 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
       work.small.push_back(i);  // solved side by side below
       continue;
     }
-    merge(total, solveIsland(i, islands, rows, bodies, lambda, h, solver, settings, work,
+    merge(total, solveIsland(i, islands, rows, bodies, lambda, h, solver, settings, work, work.push,
                              work.large, threads));
   }
   if (work.small.empty()) return total;
@@ -196,7 +231,7 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
     const std::size_t last = work.small.size() * static_cast<std::size_t>(t + 1) / tasks;
     for (std::size_t s = first; s < last; ++s)
       merge(task.report, solveIsland(work.small[s], islands, rows, bodies, lambda, h, *task.solver,
-                                     settings, work, task.problem, 1));
+                                     settings, work, work.push, task.problem, 1));
   });
   for (std::size_t t = 0; t < tasks; ++t) merge(total, work.tasks[t].value.report);
   return total;

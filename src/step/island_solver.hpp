@@ -31,6 +31,18 @@ struct IslandProblem {
   std::vector<Row> rows;
   std::vector<solver::SolverBody> bodies;
   std::vector<double> lambda;
+  // The split impulse: each row's position error left to the pseudo-velocity solve (a contact's
+  // penetration; 0 for the others), and that problem's bodies and impulses.
+  std::vector<double> push_phi;
+  std::vector<solver::SolverBody> push_bodies;
+  std::vector<double> push_lambda;
+};
+
+/// A body's pseudo velocity from the split impulse: it moves the body's position over the step
+/// (x += h (v + push.v)) and is not kept in its velocity.
+struct PushVelocity {
+  Vec3 v = Vec3::Zero();
+  Vec3 w = Vec3::Zero();
 };
 
 /// The buffers of one run of islands solved on one thread, with its own solver instance.
@@ -50,6 +62,8 @@ struct IslandWorkspace {
   IslandProblem large;                   ///< islands solved one after another, each on every thread
   std::vector<int> small;                ///< islands solved side by side, ascending
   std::vector<parallel::TaskOutput<IslandTask>> tasks;  ///< runs of `small`, one per task
+  /// Output: each body's pseudo velocity (zero but in islands whose split rows push).
+  std::vector<PushVelocity> push;
 };
 
 /// Solves the rows of each awake island separately with `solver`.
@@ -71,8 +85,17 @@ struct IslandWorkspace {
 ///   islands, each run on one thread with its own solver (`solver.another()`; the given `solver`
 ///   itself on one thread). Every island's solve depends on its own rows alone, so the results are
 ///   the same for any count.
-/// Returns the islands' reports merged: rows summed over the solved islands, iterations and
-/// residual the largest, redundant rows summed, converged if every island converged.
+/// Split impulse: a contact's penetration (a contact normal row with phi < 0: deeper than its
+///   slop) is not in the velocity solve, whose target for it is its speed (0, or a bounce).
+///   An island with one is solved a second time, for pseudo velocities: the same rows and bounds
+///   from bodies at rest, the contacts' penetrations with their targets -(erp / h) phi, every
+///   other row with target 0 (joints and friction hold, a speculative gap may not close). They go
+///   to work.push, which moves the positions and is not kept in the velocity (Bullet's split
+///   impulse; Box2D v3's relax pass does the same for the soft step), so a body created inside
+///   another is pushed out and stays.
+/// Returns the islands' reports merged (of the velocity solves): rows summed over the solved
+/// islands, iterations and residual the largest, redundant rows summed, converged if every island
+/// converged.
 SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> island_awake,
                           std::span<const Row> rows, std::span<solver::SolverBody> bodies,
                           std::span<double> lambda, double h, solver::ConstraintSolver& solver,

@@ -422,7 +422,7 @@ void storeImpulses(const Scene& scene, State& state, double h, bool soft) {
                       soft ? state.soft.total() : std::span<const double>{});
 }
 
-/// positions: awake bodies take u+ and move by it.
+/// positions: awake bodies take u+ and move by it, and by their split impulse's pseudo velocity.
 void integratePositions(const Scene& scene, const State& state, double h) {
   eachBody(scene, [&](std::size_t i) {
     Body& b = scene.bodies[i];
@@ -430,6 +430,10 @@ void integratePositions(const Scene& scene, const State& state, double h) {
     b.setLinearVelocity(state.solver_bodies[i].v);
     b.setAngularVelocity(state.solver_bodies[i].w);
     dynamics::integratePosition(b, h);
+    if (i < state.island_work.push.size()) {  // the split impulse: positions only
+      const PushVelocity& push = state.island_work.push[i];
+      if (!push.v.isZero(0) || !push.w.isZero(0)) dynamics::displace(b, h * push.v, h * push.w);
+    }
   });
 }
 
@@ -488,6 +492,14 @@ void sleep(const Scene& scene, State& state, double h) {
       if (movingKinematic(body)) state.may_sleep[static_cast<std::size_t>(island)] = 0;
     });
   }
+  // Nor may an island that the split impulse still pushes out of a penetration: it is not at
+  // rest where it is, though the push leaves no velocity.
+  const std::vector<PushVelocity>& push = state.island_work.push;
+  for (std::size_t i = 0; i < push.size() && i < scene.bodies.size(); ++i) {
+    const int island = state.islands.islandOf(static_cast<int>(i));
+    if (island >= 0 && (!push[i].v.isZero(0) || !push[i].w.isZero(0)))
+      state.may_sleep[static_cast<std::size_t>(island)] = 0;
+  }
   state.sleep.update(state.islands, scene.bodies, h, settings, state.may_sleep);
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     Body& b = scene.bodies[i];
@@ -500,6 +512,7 @@ void sleep(const Scene& scene, State& state, double h) {
 }  // namespace
 
 SolverReport pass(const Scene& scene, State& state, double h) {
+  state.island_work.push.clear();  // the split impulse's, which the soft step does not take
   if (scene.settings.solver.type == SolverType::Soft) return softStep(scene, state, h);
   wakeDisturbed(scene, state);
   noteSetStates(scene, state);

@@ -2,6 +2,7 @@
 // named stages in step/step.hpp; World::step() runs `substeps` passes of it, then checks the state.
 #include <linx/world.hpp>
 
+#include <linx/bounds.hpp>
 #include <linx/mass_properties.hpp>
 
 #include "dynamics/energy.hpp"
@@ -28,6 +29,31 @@
 namespace linx {
 
 namespace {
+
+/// Why a length (m) or a point's largest coordinate is beyond kMaxExtent, "" if it is not.
+std::string beyondExtent(double length) {
+  if (std::abs(length) <= kMaxExtent) return "";
+  return fmt::format(
+      "{:.6g} m is beyond {:g} m: doubles there are {:.2g} m apart, too coarse to resolve a "
+      "contact within the slop",
+      length, kMaxExtent, std::abs(length) * 0x1p-52);
+}
+std::string beyondExtent(const Vec3& x) {
+  return beyondExtent(x.cwiseAbs().maxCoeff());
+}
+
+/// The first field of a shape whose geometry lies beyond kMaxExtent, and why ("" for none).
+std::pair<std::string, std::string> shapeBeyondExtent(const ShapeDef& s) {
+  if (std::string far = beyondExtent(s.position); !far.empty()) return {"position", far};
+  const std::pair<const char*, double> sizes[] = {
+      {"radius", s.radius}, {"length", s.length}, {"size", s.size.cwiseAbs().maxCoeff()}};
+  for (const auto& [field, value] : sizes)
+    if (std::string far = beyondExtent(value); !far.empty()) return {field, far};
+  if (std::string far = beyondExtent(s.offset); !far.empty()) return {"offset", far};
+  for (const Vec3& p : s.points)
+    if (std::string far = beyondExtent(p); !far.empty()) return {"points", far};
+  return {};
+}
 
 /// Whether something drove the world over the last step, making energy that is not the solver's:
 /// motors, servos, prescribed motion, moving kinematic bodies. (A spring's energy is not counted
@@ -98,6 +124,8 @@ BodyId World::createBody(const BodyDef& given) {
       !def.linear_velocity.allFinite() || !def.angular_velocity.allFinite())
     throw std::invalid_argument("pose and velocities must be finite");
   if (def.orientation.norm() < 1e-12) throw std::invalid_argument("orientation: zero quaternion");
+  if (const std::string far = beyondExtent(def.position); !far.empty())
+    throw std::invalid_argument("position: " + far);
   for (const auto& [field, value] : {std::pair{"linear_damping", def.linear_damping},
                                      std::pair{"angular_damping", def.angular_damping}})
     if (!(std::isfinite(value) && value >= 0.0))
@@ -132,6 +160,8 @@ BodyId World::createBody(const BodyDef& given) {
     if (!s.position.allFinite() || !s.orientation.coeffs().allFinite() ||
         s.orientation.norm() < 1e-12)
       throw bad("position and orientation must be finite, the quaternion non-zero");
+    const auto [field, far] = shapeBeyondExtent(s);
+    if (!far.empty()) throw bad(fmt::format("{}: {}", field, far));
   }
   Body body(def);
   Slots& slots = impl_->body_slots;
@@ -286,7 +316,9 @@ const IntegratorReport& World::lastIntegratorReport() const {
 
 void World::step() {
   const double h = settings_.timestep;
-  if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("timestep: must be > 0");
+  if (!(h >= kMinTimestep) || !std::isfinite(h))
+    throw std::invalid_argument(fmt::format(
+        "timestep: must be finite and at least {:g} s (the step forms h^2)", kMinTimestep));
   if (settings_.threads < 0 || settings_.threads > kMaxThreads)
     throw std::invalid_argument(
         fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
