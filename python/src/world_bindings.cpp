@@ -4,6 +4,7 @@
 #include "py_world.hpp"
 #include "state_arrays.hpp"
 
+#include <linx/bounds.hpp>
 #include <linx/checkpoint.hpp>
 #include <linx/import.hpp>
 
@@ -115,6 +116,10 @@ void bindWorld(py::module_& m) {
       "timestep", [](PyWorld& self) { return self.world().settings().timestep; },
       [](PyWorld& self, double h) {
         checkPositive(h, "timestep");
+        if (h < kMinTimestep)
+          throw pybind11::value_error(
+              fmt::format("timestep: {:g} s is below {:g} s (its square must be a normal number)",
+                          h, kMinTimestep));
         self.world().settings().timestep = h;
       },
       "Length of a step (s).");

@@ -5,6 +5,7 @@
 
 #include "io/quoting.hpp"
 
+#include <linx/bounds.hpp>
 #include <linx/run_files.hpp>
 
 #include <fmt/format.h>
@@ -70,6 +71,21 @@ class SceneJson {
     return x;
   }
 
+  // A length or a point of a shape: within the extent a scene may have (bounds.hpp), as the
+  // scene reader holds them; a crafted scene.json beyond it would make no picture.
+  double extent(const json& j, const std::string& path, bool zero_ok = false) const {
+    const double x = positive(j, path, zero_ok);
+    if (x > kMaxExtent) fail(path, fmt::format("must be at most {:g} m", kMaxExtent));
+    return x;
+  }
+
+  Vec3 point(const json& j, const std::string& path) const {
+    const Vec3 v = vec3(j, path);
+    if (v.cwiseAbs().maxCoeff() > kMaxExtent)
+      fail(path, fmt::format("must lie within {:g} m", kMaxExtent));
+    return v;
+  }
+
   Vec3 direction(const json& j, const std::string& path) const {
     const Vec3 v = vec3(j, path);
     if (!(v.norm() > 0)) fail(path, "must not be zero");
@@ -100,15 +116,15 @@ class SceneJson {
     const auto field = [&](const char* key) { return path + "." + key; };
     if (type == "sphere") {
       s.type = ShapeType::Sphere;
-      s.radius = positive(at(j, path, "radius"), field("radius"));
+      s.radius = extent(at(j, path, "radius"), field("radius"));
     } else if (type == "box") {
       s.type = ShapeType::Box;
-      s.size = vec3(at(j, path, "size"), field("size"));
+      s.size = point(at(j, path, "size"), field("size"));
       if (!(s.size.minCoeff() > 0)) fail(field("size"), "every edge must be > 0");
     } else if (type == "capsule" || type == "cylinder") {
       s.type = type == "capsule" ? ShapeType::Capsule : ShapeType::Cylinder;
-      s.radius = positive(at(j, path, "radius"), field("radius"));
-      s.length = positive(at(j, path, "length"), field("length"), s.type == ShapeType::Capsule);
+      s.radius = extent(at(j, path, "radius"), field("radius"));
+      s.length = extent(at(j, path, "length"), field("length"), s.type == ShapeType::Capsule);
     } else if (type == "plane") {
       s.type = ShapeType::Plane;
       s.normal = direction(at(j, path, "normal"), field("normal"));
@@ -118,7 +134,7 @@ class SceneJson {
       const json& vertices = at(j, path, "vertices");
       if (!vertices.is_array()) fail(field("vertices"), "expected an array");
       for (std::size_t i = 0; i < vertices.size(); ++i)
-        s.points.push_back(vec3(vertices[i], fmt::format("{}[{}]", field("vertices"), i)));
+        s.points.push_back(point(vertices[i], fmt::format("{}[{}]", field("vertices"), i)));
       const json& triangles = at(j, path, "triangles");
       if (!triangles.is_array()) fail(field("triangles"), "expected an array");
       for (std::size_t i = 0; i < triangles.size(); ++i) {
@@ -137,7 +153,7 @@ class SceneJson {
     } else {
       fail(field("type"), fmt::format("unknown shape type '{}'", type));
     }
-    s.position = vec3(at(j, path, "position"), field("position"));
+    s.position = point(at(j, path, "position"), field("position"));
     s.orientation = quat(at(j, path, "orientation"), field("orientation"));
     return s;
   }
