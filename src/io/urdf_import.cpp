@@ -491,6 +491,10 @@ class UrdfImporter {
   // Each link's frame in the world, and the link whose body carries it (itself, or for a
   // massless link on a fixed joint its parent's carrier).
   void place(const urdf::LinkConstSharedPtr& link, const Pose& frame, const std::string& parent) {
+    // urdfdom links a child of two parents into both: the walk would go round the loop for ever.
+    if (frame_.count(link->name))
+      fail(fmt::format("link '{}'", link->name),
+           "reached a second time: the joints form a loop (a URDF's links form a tree)");
     frame_[link->name] = frame;
     const bool root = parent.empty();
     const urdf::JointConstSharedPtr& joint = link->parent_joint;
