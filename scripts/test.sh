@@ -26,6 +26,6 @@ fi
 if [[ $mode == all || $mode == --sanitize ]]; then
   echo "== AddressSanitizer + UBSan =="
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp \
+    LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0 \
     run build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLINX_SANITIZE=ON
 fi
