@@ -5,6 +5,7 @@
 // each body's frame in the world from its parent's, with its geoms as shapes (mass from density
 // unless an <inertial> gives it) and its joint towards its parent; then <equality> constraints.
 // Elements and attributes that linx does not use are counted and named in one warning.
+#include <linx/bounds.hpp>
 #include <linx/import.hpp>
 #include <linx/mass_properties.hpp>
 
@@ -287,6 +288,10 @@ class MjcfImporter {
       const double timestep = number(e, "", "", "timestep", 0.0);
       if (!(timestep > 0.0))
         fail(where(e), fmt::format("timestep: must be > 0, got {}", e->Attribute("timestep")));
+      if (timestep < kMinTimestep)
+        fail(where(e), fmt::format("timestep: {} s is below {:g} s, the shortest step whose square "
+                                   "(the step forms h^2) is a normal double",
+                                   e->Attribute("timestep"), kMinTimestep));
       scene_.settings.timestep = timestep;
     }
     if (const auto g = vector(e, "", "", "gravity", 3))

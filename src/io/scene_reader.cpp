@@ -1,6 +1,7 @@
 // Reads and validates JSON scene files (docs/scene-format.md). Every problem is reported as a
 // SceneError that names the file, the field's path (`bodies[2].mass`) and what is wrong, and
 // nothing is built until the whole file has been checked.
+#include <linx/bounds.hpp>
 #include <linx/mass_properties.hpp>
 #include <linx/scene.hpp>
 #include <linx/shape.hpp>
@@ -192,7 +193,7 @@ class Reader {
     Scene scene;
     scene.file = file_;
     if (auto n = get(node, "gravity")) scene.settings.gravity = vec3(*n);
-    if (auto n = get(node, "timestep")) scene.settings.timestep = positive(*n);
+    if (auto n = get(node, "timestep")) scene.settings.timestep = timestep(*n);
     if (auto n = get(node, "duration")) scene.duration = positive(*n);
     if (auto n = get(node, "threads")) {
       scene.settings.threads = integer(*n, 0);
@@ -323,6 +324,16 @@ class Reader {
     const double x = number(n);
     if (!(x > 0)) fail(n.path, fmt::format("must be > 0, got {}", x));
     return x;
+  }
+
+  // At least kMinTimestep: the step forms h^2, which must stay a normal double.
+  double timestep(const Node& n) const {
+    const double h = positive(n);
+    if (h < kMinTimestep)
+      fail(n.path, fmt::format("{:g} s is below {:g} s, the shortest step whose square (the step "
+                               "forms h^2) is a normal double",
+                               h, kMinTimestep));
+    return h;
   }
 
   double nonNegative(const Node& n) const {

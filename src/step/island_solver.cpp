@@ -225,7 +225,9 @@ SolverReport solveIslands(const Islands& islands, std::span<const std::uint8_t> 
   if (work.tasks.size() < tasks) work.tasks.resize(tasks);
   parallel::forEachTask(static_cast<std::ptrdiff_t>(tasks), threads, [&](std::ptrdiff_t t) {
     IslandTask& task = work.tasks[static_cast<std::size_t>(t)].value;
-    if (!task.solver || typeid(*task.solver) != typeid(solver)) task.solver = solver.another();
+    if (!task.solver) task.solver = solver.another();
+    const solver::ConstraintSolver& mine = *task.solver;
+    if (typeid(mine) != typeid(solver)) task.solver = solver.another();
     task.report = SolverReport{};
     const std::size_t first = work.small.size() * static_cast<std::size_t>(t) / tasks;
     const std::size_t last = work.small.size() * static_cast<std::size_t>(t + 1) / tasks;
