@@ -16,7 +16,7 @@ void relativeRow(const Vec3& d, const Vec3& ra, const Vec3& rb, Row& row) {
 
 void contactRows(const collision::ContactPoint& c, const BodyState& a, const BodyState& b,
                  const ContactLaw& law, double h, Row& normal, std::span<Row, 2> friction, Vec3& t1,
-                 Vec3& t2) {
+                 Vec3& t2, double start_approach) {
   const Vec3& n = c.normal;
   const Vec3 ra = c.point - a.pose.position, rb = c.point - b.pose.position;
   const Vec3 rel = (b.v + b.w.cross(rb)) - (a.v + a.w.cross(ra));  // b's point relative to a's
@@ -52,7 +52,12 @@ void contactRows(const collision::ContactPoint& c, const BodyState& a, const Bod
   const double approach = -vn;
   if (law.restitution > 0.0 && approach > law.restitution_threshold &&
       approach * h >= std::max(gap, 0.0)) {
-    const double bounce = law.restitution * approach;
+    // The bounce reverses the bodies where they are now, so it reflects the speed they have here:
+    // the approach before this step's forces. The approach after them (`approach`) is faster by
+    // the step's acceleration times h, and an e = 1 ball dropped 0.4 m at h = 1 ms gained its
+    // weight times 3 mm at each bounce (0.85 % of its energy).
+    const double reflected = std::isnan(start_approach) ? approach : start_approach;
+    const double bounce = law.restitution * std::max(0.0, reflected);
     if (gap <= 0.0) {
       normal.speed = bounce;  // the penetration is still pushed out, by the split impulse
     } else if (bounce > normal.target(h)) {

@@ -23,6 +23,7 @@
 #include <linx/joint.hpp>
 #include <linx/row.hpp>
 
+#include <limits>
 #include <span>
 
 #include "collision/narrowphase.hpp"
@@ -46,9 +47,11 @@ inline constexpr double kSlidingSpeed = 1e-4;
 /// Writes every field but the body indices of the normal row and the two friction rows
 /// (`normal` = 0, the slot of the normal row) of contact c between bodies a and b in their current
 /// states, for a step h, in place (the caller's row list: no copies); writes the tangents it used.
-/// Row keys are the slots 0, 1, 2.
+/// Row keys are the slots 0, 1, 2. `start_approach`: the speed (m/s) at which the points
+/// approached at the start of the step, before its forces, which a bounce reflects: the speed the
+/// bodies have where they are now (NaN: the approach in their current states).
 void contactRows(const collision::ContactPoint& c, const BodyState& a, const BodyState& b,
                  const ContactLaw& law, double h, Row& normal, std::span<Row, 2> friction, Vec3& t1,
-                 Vec3& t2);
+                 Vec3& t2, double start_approach = std::numeric_limits<double>::quiet_NaN());
 
 }  // namespace linx::joints

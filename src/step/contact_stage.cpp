@@ -323,7 +323,7 @@ void ContactStage::collidePair(std::span<const Body> bodies, const ContactSettin
 
 void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
                               std::vector<double>& lambda, bool warm_start, int threads,
-                              bool bounce) {
+                              bool bounce, std::span<const StartVelocity> start) {
   // All normal rows first, then all friction rows: a Gauss-Seidel sweep then settles the normal
   // impulses of a whole pile before friction, whose bounds follow them, is solved against them.
   // Each contact writes its own three rows, so the contacts are split over the threads.
@@ -349,9 +349,19 @@ void ContactStage::appendRows(std::span<const Body> bodies, double h, std::vecto
     r.friction_row = static_cast<int>(first_friction + 2 * c);
     const std::array<std::size_t, 3> at{first_normal + c, first_friction + 2 * c,
                                         first_friction + 2 * c + 1};
+    double start_approach = std::numeric_limits<double>::quiet_NaN();
+    if (law.restitution > 0.0 && !start.empty()) {
+      const auto pointVelocity = [&](int body) {
+        if (body < 0) return Vec3(Vec3::Zero());
+        const StartVelocity& s = start[static_cast<std::size_t>(body)];
+        return Vec3(s.v +
+                    s.w.cross(r.point.point - bodies[static_cast<std::size_t>(body)].position()));
+      };
+      start_approach = -r.point.normal.dot(pointVelocity(r.body_b) - pointVelocity(r.body_a));
+    }
     joints::contactRows(r.point, stateOf(bodies, BodyId{r.body_a}),
                         stateOf(bodies, BodyId{r.body_b}), law, h, rows[at[0]],
-                        std::span<Row, 2>(&rows[at[1]], 2), r.t1, r.t2);
+                        std::span<Row, 2>(&rows[at[1]], 2), r.t1, r.t2, start_approach);
     if (spring) {  // not split: it bounces, or pushes, whichever is faster (contactRows' rule)
       Row& n = rows[at[0]];
       if (n.speed > 0.0 && n.phi < 0.0) {

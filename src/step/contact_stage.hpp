@@ -23,6 +23,7 @@
 #include "collision/narrowphase.hpp"
 #include "joints/contact_joint.hpp"
 #include "parallel/task_output.hpp"
+#include "step/assembly.hpp"
 
 namespace linx::state {
 class Archive;
@@ -61,10 +62,11 @@ class ContactStage {
 
   /// Appends three rows per contact (normal, two friction) and their warm-start impulses. With
   /// `bounce` false the normal rows leave restitution out (the soft step applies it after its
-  /// substeps, from the records' laws).
+  /// substeps, from the records' laws). `start`: the bodies' velocities before the step's forces,
+  /// whose approach a bounce reflects (empty: their current ones).
   void appendRows(std::span<const Body> bodies, double h, std::vector<Row>& rows,
-                  std::vector<double>& lambda, bool warm_start, int threads = 1,
-                  bool bounce = true);
+                  std::vector<double>& lambda, bool warm_start, int threads = 1, bool bounce = true,
+                  std::span<const StartVelocity> start = {});
 
   /// Keeps the solved impulses for the next step's warm start and the contacts() report, which
   /// takes `reported` instead when given (the soft step's impulses over all its substeps).

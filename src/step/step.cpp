@@ -83,7 +83,7 @@ void prepareRows(const Scene& scene, State& state, double h_joints, double h, bo
     state.stabilization.addCurvature(scene.bodies, r.rows, true, &state.geometric_stiffness);
   }
   state.contact.appendRows(scene.bodies, h, r.rows, r.lambda, solver.warm_start, scene.threads,
-                           bounce);
+                           bounce, state.start_velocities);
 }
 
 /// islands: bodies linked by this pass's rows. With sleeping on, an island with an awake body

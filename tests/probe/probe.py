@@ -2029,11 +2029,7 @@ class Probe:
 
 # Findings of the probe that are known and not yet fixed, each with the reason it stays open:
 # printed on every run, kept out of the count. A case that passes again is counted as usual.
-KNOWN_OPEN = {
-    "physics_restitution_one": "an e = 1 ball bouncing at h = 1 ms gains 1.4 % of its energy over "
-                               "its bounces, against the probe's 1 %: restitution is applied to the "
-                               "approach speed of the step before the contact; open",
-}
+KNOWN_OPEN: dict[str, str] = {}
 
 
 def main():
