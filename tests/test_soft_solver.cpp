@@ -102,9 +102,10 @@ SoftSolver run(const Contacts& c, bool wide, int threads) {
   solver.prepare(c.rows, c.lambda, active, c.manifold, c.bodies, s);
   for (int k = 0; k < s.substeps; ++k) {
     solver.warmStart();
-    solver.sweep(true);
+    solver.solve();
+    solver.push();
     solver.move(s.h);
-    solver.sweep(false);
+    solver.relax();
     solver.accumulate();
   }
   return solver;
@@ -172,9 +173,10 @@ Box restingBox(double angle, double mu) {
     for (int k = 0; k < s.substeps; ++k) {
       box.solver.bodies()[0].v += h * Vec3(0.0, 0.0, -g);
       box.solver.warmStart();
-      box.solver.sweep(true);
+      box.solver.solve();
+      box.solver.push();
       box.solver.move(h);
-      box.solver.sweep(false);
+      box.solver.relax();
       box.solver.accumulate();
     }
     lambda.assign(box.solver.lambda().begin(), box.solver.lambda().end());

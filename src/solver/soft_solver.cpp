@@ -59,6 +59,7 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
   bodies_.back() = Body{};
   lambda_.assign(lambda.begin(), lambda.end());
   lambda_.push_back(0.0);  // the spare impulse of a wide row's empty lanes, always 0
+  push_.assign(lambda_.size(), 0.0);
   total_.resize(n);
   // The sweep's order: each contact point's normal row followed by its friction rows (friction's
   // bound follows the normal impulse just solved), the other rows as they come.
@@ -131,19 +132,20 @@ void SoftSolver::prepare(std::span<const Row> rows, std::span<const double> lamb
   rows_.resize(static_cast<std::size_t>(count_rows));
   index_.resize(static_cast<std::size_t>(count_rows));
   compact_.assign(n, -1);
-  parallel::forEach(
-      static_cast<std::ptrdiff_t>(sweep.size()), settings.threads, kParallelPrepare,
-      [&](std::ptrdiff_t s) {
-        const auto b = static_cast<std::size_t>(sweep[static_cast<std::size_t>(s)]);
-        int i = first_row[static_cast<std::size_t>(s)];
-        for (int pos = units[static_cast<std::size_t>(blocks[b])];
-             pos < units[static_cast<std::size_t>(blocks[b + 1])]; ++pos, ++i) {
-          const auto k = static_cast<std::size_t>(order_[static_cast<std::size_t>(pos)]);
-          compactRow(rows[k], manifold, static_cast<int>(s), rows_[static_cast<std::size_t>(i)]);
-          index_[static_cast<std::size_t>(i)] = static_cast<int>(k);
-          compact_[k] = i;
-        }
-      });
+  parallel::forEach(static_cast<std::ptrdiff_t>(sweep.size()), settings.threads, kParallelPrepare,
+                    [&](std::ptrdiff_t s) {
+                      const auto b = static_cast<std::size_t>(sweep[static_cast<std::size_t>(s)]);
+                      int i = first_row[static_cast<std::size_t>(s)];
+                      for (int pos = units[static_cast<std::size_t>(blocks[b])];
+                           pos < units[static_cast<std::size_t>(blocks[b + 1])]; ++pos, ++i) {
+                        const auto k =
+                            static_cast<std::size_t>(order_[static_cast<std::size_t>(pos)]);
+                        compactRow(rows[k], lambda_[k], manifold, static_cast<int>(s),
+                                   rows_[static_cast<std::size_t>(i)]);
+                        index_[static_cast<std::size_t>(i)] = static_cast<int>(k);
+                        compact_[k] = i;
+                      }
+                    });
   buildBundles();
   sweeps_ = 0;
 }
@@ -226,7 +228,7 @@ void SoftSolver::clearLane(WideRow& w, std::size_t l) {
     w.ja_v[d][l] = w.ja_w[d][l] = w.jb_v[d][l] = w.jb_w[d][l] = 0.0;
     w.wa_v[d][l] = w.wa_w[d][l] = w.wb_v[d][l] = w.wb_w[d][l] = 0.0;
   }
-  w.mass[l] = w.phi0[l] = w.speed[l] = w.lo[l] = w.hi[l] = w.mu[l] = 0.0;
+  w.mass[l] = w.phi0[l] = w.speed[l] = w.lo[l] = w.hi[l] = w.mu[l] = w.spring[l] = 0.0;
 }
 
 void SoftSolver::fillBundle(std::size_t k) {
@@ -260,6 +262,7 @@ void SoftSolver::fillBundle(std::size_t k) {
         }
         w.mass[l] = c.mass;
         w.phi0[l] = c.phi0;
+        w.spring[l] = c.spring;
         w.speed[l] = c.speed;
         w.lo[l] = c.lo;
         w.hi[l] = c.hi;
@@ -269,7 +272,7 @@ void SoftSolver::fillBundle(std::size_t k) {
     }
 }
 
-void SoftSolver::compactRow(const Row& r, std::span<const int> manifold, int block,
+void SoftSolver::compactRow(const Row& r, double warm, std::span<const int> manifold, int block,
                             CompactRow& c) const {
   // Every field is written in place: value-initializing a local row first and copying it cost a
   // quarter of this function (rep stos; perf, 1,000 spheres).
@@ -290,6 +293,13 @@ void SoftSolver::compactRow(const Row& r, std::span<const int> manifold, int blo
       c.ja_v.dot(c.wa_v) + c.ja_w.dot(c.wa_w) + c.jb_v.dot(c.wb_v) + c.jb_w.dot(c.wb_w) + r.cfm;
   c.mass = k_eff > 0.0 ? 1.0 / k_eff : 0.0;
   c.phi0 = r.phi;
+  c.spring = settings_.spring_depth;
+  if (const double omega2h = settings_.omega * settings_.omega * settings_.h;
+      omega2h > 0.0 && c.mass > 0.0) {
+    // Twice the depth the row's load (its warm start) sinks it to, k d h = lambda.
+    const double load = std::max(0.0, warm);
+    c.spring = std::max(c.spring, 2.0 * load / (c.mass * omega2h));
+  }
   c.speed = r.speed;
   c.lo = r.lo;
   c.hi = r.hi;
@@ -393,8 +403,11 @@ void SoftSolver::apply(const CompactRow& c, double delta) {
 
 void SoftSolver::move(double h) {
   for (std::size_t i = 0; i + 1 < bodies_.size(); ++i) {
-    bodies_[i].dp += h * bodies_[i].v;
-    bodies_[i].dq += h * bodies_[i].w;
+    Body& b = bodies_[i];
+    b.dp += h * (b.v + b.push_v);
+    b.dq += h * (b.w + b.push_w);
+    b.push_v.setZero();
+    b.push_w.setZero();
   }
 }
 
@@ -414,16 +427,39 @@ void SoftSolver::warmStart() {
   });
 }
 
-void SoftSolver::sweep(bool bias) {
+void SoftSolver::solve() {
+  sweep(Pass::Solve);
+}
+
+void SoftSolver::relax() {
+  sweep(Pass::Relax);
+}
+
+void SoftSolver::push() {
+  // The sweep's kernels on the push velocities (zero at the start: move dropped the last ones)
+  // and the push impulses: the bodies' velocities are swapped with them for the sweep.
+  std::fill(push_.begin(), push_.end(), 0.0);
+  const auto swap = [&] {
+    for (Body& b : bodies_) {
+      std::swap(b.v, b.push_v);
+      std::swap(b.w, b.push_w);
+    }
+  };
+  swap();
+  sweep(Pass::Push);
+  swap();
+}
+
+void SoftSolver::sweep(Pass pass) {
   // Every other sweep visits the colours, and each manifold's contact points, backwards (each
   // point's rows still in order): a one-way sweep leaves a bias towards the rows it visits last,
   // which walks a stack sideways.
   const bool forward = (sweeps_++ % 2) == 0;
   eachTask(forward, [&](int task) {
     if (task >= 0)
-      solveBundle(static_cast<std::size_t>(task), forward, bias);
+      solveBundle(static_cast<std::size_t>(task), forward, pass);
     else
-      solveBlock(static_cast<std::size_t>(-1 - task), forward, bias);
+      solveBlock(static_cast<std::size_t>(-1 - task), forward, pass);
   });
 }
 
@@ -510,7 +546,8 @@ LINX_AVX2_CLONES void SoftSolver::warmStartBundle(std::size_t k) {
   scatter(bodies_, bundle, x);
 }
 
-LINX_AVX2_CLONES void SoftSolver::solveBundle(std::size_t k, bool forward, bool bias) {
+LINX_AVX2_CLONES void SoftSolver::solveBundle(std::size_t k, bool forward, Pass pass) {
+  const bool push = pass == Pass::Push;
   const Bundle& bundle = bundles_[k];
   // Gather the lanes' bodies (structure of arrays).
   WideVelocities x;
@@ -531,20 +568,21 @@ LINX_AVX2_CLONES void SoftSolver::solveBundle(std::size_t k, bool forward, bool 
   const Softness& soft = settings_.contact;
   const double h = settings_.h;
   const Lanes zero{}, one = zero + 1.0;
+  std::vector<double>& impulses = push ? push_ : lambda_;
   const auto load = [&](const WideRow& w) __attribute__((always_inline)) {
-    return gatherImpulses(lambda_, w.lambda);
+    return gatherImpulses(impulses, w.lambda);
   };
   const auto store = [&](const WideRow& w, const Lanes& x, int unit)
       __attribute__((always_inline)) {
     for (std::size_t l = 0; l < kLanes; ++l)
-      if (unit < bundle.count[l]) lambda_[static_cast<std::size_t>(w.lambda[l])] = x[l];
+      if (unit < bundle.count[l]) impulses[static_cast<std::size_t>(w.lambda[l])] = x[l];
   };
-  const auto solveRow = [&](const WideRow& c, Lanes& l, const Lanes& target,
+  const auto solveRow = [&](const WideRow& c, Lanes& l, const Lanes& target, const Lanes& speed,
                             const Lanes& mass_scale, const Lanes& impulse_scale, const Lanes& lo,
                             const Lanes& hi) __attribute__((always_inline)) {
     const Lanes rate =
         dot(c.ja_v, x.va) + dot(c.ja_w, x.wa) + dot(c.jb_v, x.vb) + dot(c.jb_w, x.wb);
-    const Lanes delta = -c.mass * mass_scale * (rate - c.speed + target) - impulse_scale * l;
+    const Lanes delta = -c.mass * mass_scale * (rate - speed + target) - impulse_scale * l;
     Lanes next = l + delta;  // std::clamp(next, lo, hi)
     next = next < lo ? lo : (hi < next ? hi : next);
     const Lanes applied = next - l;
@@ -565,20 +603,30 @@ LINX_AVX2_CLONES void SoftSolver::solveBundle(std::size_t k, bool forward, bool 
       const Lanes error =
           c.phi0 + dot(c.ja_v, dpa) + dot(c.ja_w, dqa) + dot(c.jb_v, dpb) + dot(c.jb_w, dqb);
       const auto gap = error > zero;
-      Lanes target = zero, mass_scale = one, impulse_scale = zero;
-      if (bias) {
-        Lanes pushed = soft.bias_rate * error;  // std::max(pushed, -max_push_out)
+      // The spring's share of the error, and the push's (deeper than spring_depth).
+      const Lanes deepest = zero - c.spring;
+      const Lanes held = error < deepest ? deepest : error;  // std::max(error, -spring_depth)
+      const Lanes beyond = error - held;
+      Lanes target = zero, mass_scale = one, impulse_scale = zero, speed = c.speed;
+      if (pass != Pass::Relax) {
+        const Lanes part = push ? beyond : held;
+        Lanes pushed = soft.bias_rate * part;  // std::max(pushed, -max_push_out)
         pushed = pushed < -settings_.max_push_out ? zero - settings_.max_push_out : pushed;
-        target = pushed;
-        mass_scale = zero + soft.mass_scale;
-        impulse_scale = zero + soft.impulse_scale;
+        const auto acts = part < zero;
+        target = acts ? pushed : zero;
+        mass_scale = acts ? zero + soft.mass_scale : one;
+        impulse_scale = acts ? zero + soft.impulse_scale : zero;
       }
-      target = gap ? error / h : target;
-      mass_scale = gap ? one : mass_scale;
-      impulse_scale = gap ? zero : impulse_scale;
-      solveRow(c, l, target, mass_scale, impulse_scale, c.lo, c.hi);
+      if (push) speed = zero;
+      if (!push) {
+        target = gap ? error / h : target;  // a gap: it may close within the substep, no further
+        mass_scale = gap ? one : mass_scale;
+        impulse_scale = gap ? zero : impulse_scale;
+      }
+      solveRow(c, l, target, speed, mass_scale, impulse_scale, c.lo, c.hi);
       store(c, l, unit);
     }
+    if (push) continue;
     // The friction rows' bound: mu times the mean normal impulse of the lane's manifold.
     Lanes sum = zero;
     for (int j = 0; j < bundle.units; ++j) {
@@ -589,14 +637,14 @@ LINX_AVX2_CLONES void SoftSolver::solveBundle(std::size_t k, bool forward, bool 
     for (int r = 1; r < 3; ++r) {
       const WideRow& c = rows[r];
       Lanes l = load(c);
-      solveRow(c, l, zero, one, zero, zero - bound, bound);
+      solveRow(c, l, zero, c.speed, one, zero, zero - bound, bound);
       store(c, l, unit);
     }
   }
   scatter(bodies_, bundle, x);
 }
 
-void SoftSolver::solveBlock(std::size_t k, bool forward, bool bias) {
+void SoftSolver::solveBlock(std::size_t k, bool forward, Pass pass) {
   // A block's rows share their two bodies: their velocities stay in registers while its units are
   // solved, and are written back once (only the moving ends: a colour's blocks share the static
   // and kinematic ones).
@@ -607,7 +655,7 @@ void SoftSolver::solveBlock(std::size_t k, bool forward, bool bias) {
   Body& b = bodies_[static_cast<std::size_t>(first.b)];
   Ends ends{a.v, a.w, b.v, b.w, a.dp, a.dq, b.dp, b.dq};
   for (std::size_t visit = begin; visit < end; ++visit)
-    solveUnit(forward ? visit : end - 1 - (visit - begin), bias, ends);
+    solveUnit(forward ? visit : end - 1 - (visit - begin), pass, ends);
   if (first.moves_a) {
     a.v = ends.va;
     a.w = ends.wa;
@@ -618,13 +666,16 @@ void SoftSolver::solveBlock(std::size_t k, bool forward, bool bias) {
   }
 }
 
-void SoftSolver::solveUnit(std::size_t u, bool bias, Ends& e) {
+void SoftSolver::solveUnit(std::size_t u, Pass pass, Ends& e) {
   const double h = settings_.h;
+  const bool push = pass == Pass::Push;
   double bound = -1.0;  // the friction rows' bound, once the unit's normal row is solved
   for (auto i = static_cast<std::size_t>(units_[u]); i < static_cast<std::size_t>(units_[u + 1]);
        ++i) {
     const CompactRow& c = rows_[i];
-    double& l = lambda_[static_cast<std::size_t>(index_[i])];
+    // A push moves only along the penetrating rows: a unilateral position error (a contact's).
+    if (push && !(c.positional && c.unilateral && !c.friction)) continue;
+    double& l = (push ? push_ : lambda_)[static_cast<std::size_t>(index_[i])];
     double lo = c.lo, hi = c.hi;
     if (c.friction && c.normal >= 0) {
       if (bound < 0.0) bound = frictionBound(c);
@@ -632,22 +683,29 @@ void SoftSolver::solveUnit(std::size_t u, bool bias, Ends& e) {
       lo = -hi;
     }
     double target = 0.0;  // the bias velocity
+    double speed = push ? 0.0 : c.speed;
     double mass_scale = 1.0, impulse_scale = 0.0;
     if (c.positional) {
       const double error =
           c.phi0 + c.ja_v.dot(e.dpa) + c.ja_w.dot(e.dqa) + c.jb_v.dot(e.dpb) + c.jb_w.dot(e.dqb);
+      // The spring's share of the error, and the push's (deeper than spring_depth).
+      const double held = std::max(error, -c.spring);
+      const double beyond = error - held;
       if (c.unilateral && error > 0.0) {
-        target = error / h;  // a gap: it may close within the substep, no further
-      } else if (bias) {
-        const Softness& soft = settings_.contact;
-        target = soft.bias_rate * error;
-        target = std::max(target, -settings_.max_push_out);
-        mass_scale = soft.mass_scale;
-        impulse_scale = soft.impulse_scale;
+        if (!push) target = error / h;  // a gap: it may close within the substep, no further
+      } else if (pass != Pass::Relax) {
+        const double part = push ? beyond : held;
+        if (part < 0.0) {
+          const Softness& soft = settings_.contact;
+          target = soft.bias_rate * part;
+          target = std::max(target, -settings_.max_push_out);
+          mass_scale = soft.mass_scale;
+          impulse_scale = soft.impulse_scale;
+        }
       }
     }
     const double rate = c.ja_v.dot(e.va) + c.ja_w.dot(e.wa) + c.jb_v.dot(e.vb) + c.jb_w.dot(e.wb);
-    const double delta = -c.mass * mass_scale * (rate - c.speed + target) - impulse_scale * l;
+    const double delta = -c.mass * mass_scale * (rate - speed + target) - impulse_scale * l;
     const double next = std::clamp(l + delta, lo, hi);
     const double applied = next - l;
     if (c.moves_a) {

@@ -1,7 +1,8 @@
 // The row solver of the soft step (docs/solver.md, "The soft step"; Catto's soft step of Box2D
 // v3, Macklin et al. "Small Steps", 2019). The rows are prepared once per step; each substep of
-// length h then warm-starts them, solves them once with a soft position bias, and, after the
-// positions moved, relaxes them once without it.
+// length h then warm-starts them, solves them once with a soft position bias, pushes the deep
+// penetrations out through push velocities of their own, moves the positions by both, and
+// relaxes the rows once without the bias.
 //
 // A row's position error follows the bodies within the step without a new collision pass: with
 // dx the translation and rotation vector each body made since the step began,
@@ -12,9 +13,16 @@
 //   dlambda = -m_eff (mass_scale (J v - speed + bias_rate phi)) - impulse_scale lambda.
 // The rows are contacts' (the joints are solved exactly, step/substep_joints). A row whose error
 // is a gap (phi > 0: a speculative contact) is rigid: it lets the gap close within the substep, no
-// further (bias phi / h). A penetration is pushed out no faster than max_push_out. Friction rows
-// are rigid and bounded by mu times the mean normal impulse of their manifold. The relax pass is
-// rigid and keeps only the gaps' bias.
+// further (bias phi / h). Friction rows are rigid and bounded by mu times the mean normal impulse
+// of their manifold.
+// The spring in the velocities carries the load and damps the sweeps; it holds a penetration to
+// its row's `spring` depth (twice what the row's load sinks it to, at least
+// Settings::spring_depth). What lies deeper is a split impulse: the same soft constraint acts on
+// push velocities, which start at zero each substep, take impulses of their own (>= 0, no
+// friction), move the positions with the velocities, and are then dropped. (With all of the
+// penetration in the velocities, one relax sweep took out only part of the push for a box's four
+// points or a stack: a box 1 mm deep at h = 1e-5 s left at 1.1 m/s.) A penetration is pushed out no
+// faster than max_push_out.
 //
 // Graph colouring (Box2D v3's constraint graph): a contact's rows with the same two bodies (a
 // manifold: all points of one shape pair) form a block; blocks are coloured so that no two of one
@@ -67,14 +75,21 @@ class SoftSolver {
     Mat3 inv_inertia = Mat3::Zero();
     Vec3 v = Vec3::Zero(), w = Vec3::Zero();
     Vec3 dp = Vec3::Zero(), dq = Vec3::Zero();  ///< translation (m), rotation vector (rad)
+    /// This substep's push velocities (the split impulse's), zero outside push and move.
+    Vec3 push_v = Vec3::Zero(), push_w = Vec3::Zero();
   };
 
   struct Settings {
     Softness contact;
     double max_push_out = 3.0;  ///< (m/s)
-    double h = 0.0;             ///< substep (s)
-    int substeps = 1;           ///< of the step
-    int threads = 1;            ///< worker threads of the sweeps
+    /// The deepest (m) a penetration is held by the spring in the velocities at least; a row
+    /// holds twice the depth its load sinks it to (its warm-start impulse over m omega^2 h), if
+    /// deeper. The push removes the rest.
+    double spring_depth = 0.0;
+    double omega = 0.0;  ///< the contacts' spring (rad/s)
+    double h = 0.0;      ///< substep (s)
+    int substeps = 1;    ///< of the step
+    int threads = 1;     ///< worker threads of the sweeps
     /// Solve a colour's contact blocks kLanes at a time (false: one at a time, the scalar path
     /// that the wide one matches to the bit; for tests and measurements).
     bool wide = true;
@@ -91,15 +106,22 @@ class SoftSolver {
                std::span<const SolverBody> bodies, const Settings& settings);
 
   /// The bodies' substep state (as many as given to prepare): the caller integrates their
-  /// velocities before warmStart and moves them (move) after the bias sweep.
+  /// velocities before warmStart and moves them (move) by v + push_v after the push.
   std::span<Body> bodies() { return std::span<Body>(bodies_).first(bodies_.size() - 1); }
-  /// Records that every body moved by h times its velocity (after the positions are integrated).
+  /// Records that every body moved by h times its velocity and push velocity (after the positions
+  /// are integrated), and drops the push velocities.
   void move(double h);
 
   /// Applies the impulses to the bodies' velocities (the start of each substep).
   void warmStart();
-  /// One sweep over the rows: with the soft bias (`bias`), or the relax pass without it.
-  void sweep(bool bias);
+  /// One sweep over the rows: a penetration with the soft constraint to at most spring_depth,
+  /// a gap with its bias.
+  void solve();
+  /// One sweep of the soft constraint on the push velocities, for the penetrations deeper than
+  /// spring_depth.
+  void push();
+  /// One rigid sweep over the rows, after the positions moved (the gaps' bias only).
+  void relax();
   /// Adds this substep's impulses to the step's totals (after the relax pass).
   void accumulate();
 
@@ -122,21 +144,25 @@ class SoftSolver {
   double residual() const;
 
  private:
+  enum class Pass { Solve, Push, Relax };
   struct CompactRow {
     Vec3 ja_v, ja_w, jb_v, jb_w;  // J of each end
     Vec3 wa_v, wa_w, wb_v, wb_w;  // M^-1 J^T
     double mass;                  // 1 / (J M^-1 J^T), 0 for a row that moves nothing
     double rate0;                 // J u at the start of the step
     double phi0, speed, lo, hi, mu;
-    int a, b;      // body slots; an absent end points at a slot that stays zero
-    int normal;    // friction: the normal row, else -1
-    int manifold;  // a friction row of a manifold: its block (whose units' first rows are the
-                   // manifold's normal rows), else -1
+    double spring;  // the deepest penetration (m) the spring holds in the velocities
+    int a, b;       // body slots; an absent end points at a slot that stays zero
+    int normal;     // friction: the normal row, else -1
+    int manifold;   // a friction row of a manifold: its block (whose units' first rows are the
+                    // manifold's normal rows), else -1
     bool unilateral, friction, positional;  // positional: phi is a position error
     bool moves_a, moves_b;                  // the end takes impulses (not static or kinematic)
   };
-  /// Writes row r for the sweep into c; `block`: its block's place in the sweep.
-  void compactRow(const Row& r, std::span<const int> manifold, int block, CompactRow& c) const;
+  /// Writes row r, whose warm-start impulse is `warm`, for the sweep into c; `block`: its block's
+  /// place in the sweep.
+  void compactRow(const Row& r, double warm, std::span<const int> manifold, int block,
+                  CompactRow& c) const;
   double phi(const CompactRow& c) const;
   double rate(const CompactRow& c) const;
   void apply(const CompactRow& c, double delta);
@@ -157,7 +183,7 @@ class SoftSolver {
   struct alignas(32) WideRow {  // aligned for the AVX2 clone of the sweep, whatever the target
     Lanes ja_v[3], ja_w[3], jb_v[3], jb_w[3];
     Lanes wa_v[3], wa_w[3], wb_v[3], wb_w[3];
-    Lanes mass, phi0, speed, lo, hi, mu;
+    Lanes mass, phi0, speed, lo, hi, mu, spring;
     std::array<int, kLanes> lambda;  // each lane's row in lambda_ (the spare entry for none)
   };
   /// Up to kLanes blocks of one colour whose units are contact points (a unilateral normal row
@@ -179,7 +205,7 @@ class SoftSolver {
   /// Applies bundle k's impulses to its bodies, as warmStart does a block's.
   void warmStartBundle(std::size_t k);
   /// Solves bundle k's blocks side by side, like solveBlock.
-  void solveBundle(std::size_t k, bool forward, bool bias);
+  void solveBundle(std::size_t k, bool forward, Pass pass);
   std::vector<Bundle> bundles_;
   std::vector<WideRow> wide_;
   // Each colour's work: bundles (>= 0) then blocks solved alone (-1 - block); colours as in
@@ -193,16 +219,20 @@ class SoftSolver {
     Vec3 va, wa, vb, wb;
     Vec3 dpa, dqa, dpb, dqb;
   };
-  /// Solves block k's units, in order or (`forward` false) backwards.
-  void solveBlock(std::size_t k, bool forward, bool bias);
-  /// Solves a unit's rows: its normal (or lone) row, then its friction rows.
-  void solveUnit(std::size_t u, bool bias, Ends& ends);
+  /// Solves block k's units, in order or (`forward` false) backwards; in a push only their normal
+  /// rows (the bodies' velocities swapped with their push velocities, push_ for lambda_).
+  void solveBlock(std::size_t k, bool forward, Pass pass);
+  /// Solves a unit's rows: its normal (or lone) row, then (not in a push) its friction rows.
+  void solveUnit(std::size_t u, Pass pass, Ends& ends);
+  /// One sweep of the given pass.
+  void sweep(Pass pass);
   /// Calls task(t) for every task (a bundle, or a block solved alone), colour by colour
   /// (backwards when `forward` is false), each colour's tasks split over the threads, then the
   /// overflow set in order.
   template <class F>
   void eachTask(bool forward, F&& task);
   std::vector<double> lambda_, total_;  // by row
+  std::vector<double> push_;            // by row, as lambda_: this substep's push impulses
   std::vector<Body> bodies_;            // and one more, always at rest, for an absent end
   Settings settings_;
   std::vector<int> order_;  // the rows that act, each contact point's normal then its friction rows
