@@ -21,6 +21,7 @@ from linx._linx import (
     SceneError,
     StepFault,
     World,
+    __version__,
     load,
     loads,
 )
@@ -28,7 +29,7 @@ from linx._linx import (
 __all__ = [
     "Batch", "Body", "BoundExceeded", "BusyError", "CheckpointError", "ClosedError",
     "EnergyGrowth", "Error", "Joint", "NonFiniteState", "Recording", "SceneError", "StepFault",
-    "World", "load", "loads",
+    "World", "__version__", "load", "loads",
 ]
 
 from linx.pictures import Viewer, render, view

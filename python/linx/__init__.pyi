@@ -15,6 +15,7 @@ from linx._linx import (
     SceneError as SceneError,
     StepFault as StepFault,
     World as World,
+    __version__ as __version__,
     load as load,
     loads as loads,
 )

@@ -12,6 +12,8 @@ _ArrayLike = npt.ArrayLike
 _BodyKey = Union[int, str, "Body"]
 _JointKey = Union[int, str, "Joint"]
 
+__version__: str  # the project's version, as `linx --version` prints it
+
 class Error(Exception): ...
 
 class SceneError(Error, ValueError):

@@ -6,6 +6,7 @@
 
 PYBIND11_MODULE(_linx, m) {
   m.doc() = "linx: rigid multibody dynamics (the compiled core; use the linx package).";
+  m.attr("__version__") = LINX_VERSION;
   linx::python::bindErrors(m);
   linx::python::bindWorld(m);
   linx::python::bindBatch(m);

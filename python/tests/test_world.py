@@ -225,3 +225,12 @@ def test_type_stubs_and_docstrings_cover_the_module():
             assert getattr(getattr(_linx, cls), k).__doc__, f"{cls}.{k} has no docstring"
     for k in public:
         assert getattr(_linx, k).__doc__, k
+
+
+def test_version_is_the_linx_programs(linx_program):
+    # linx.__version__ is the project's version: what `linx --version` prints ("linx X.Y.Z").
+    printed = subprocess.run([linx_program, "--version"], check=True, capture_output=True,
+                             text=True).stdout.split()
+    assert printed[0] == "linx"
+    assert linx.__version__ == printed[1]
+    assert all(part.isdigit() for part in linx.__version__.split("."))
