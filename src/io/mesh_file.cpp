@@ -103,12 +103,14 @@ void readBinaryStl(const std::string& path, const std::string& bytes, ShapeDef& 
   std::memcpy(&count, bytes.data() + 80, 4);  // little-endian on the platforms we build for
   const std::uint64_t expected = 84 + 50ull * count;
   if (bytes.size() < expected)
-    fail(path, fmt::format("truncated binary STL: {} triangles need {} bytes, the file has {}",
-                           count, expected, bytes.size()));
+    fail(path,
+         fmt::format("truncated binary STL: {} triangle{} need{} {} bytes, the file has {}", count,
+                     count == 1 ? "" : "s", count == 1 ? "s" : "", expected, bytes.size()));
   if (bytes.size() > expected)  // a count short of the data: which of the two is wrong is unknown
-    fail(path, fmt::format("binary STL: {} triangles need {} bytes (84 + 50 per triangle), the "
-                           "file has {}: the triangle count does not match the data",
-                           count, expected, bytes.size()));
+    fail(path,
+         fmt::format("binary STL: {} triangle{} need{} {} bytes (84 + 50 per triangle), "
+                     "the file has {}: the triangle count does not match the data",
+                     count, count == 1 ? "" : "s", count == 1 ? "s" : "", expected, bytes.size()));
   VertexWelder welder;
   for (std::uint32_t t = 0; t < count; ++t) {
     const char* record = bytes.data() + 84 + 50ull * t;  // normal, 3 corners, attribute
