@@ -461,10 +461,26 @@ TEST(SceneRead, RepeatedJointsAreNamedWithAWarning) {
   scene["joints"].push_back(hinge("other_axis", {0, 0, 0}, {0, 1, 0}));
   scene["joints"].push_back(hinge("other_anchor", {0, 0, 1e-3}, {0, 0, 1}));
   scene["joints"].push_back(hinge("to_world", {0, 0, 0}, {0, 0, 1}, "a", "world"));
+  // Mimics tie joints, not bodies: ties of different joints are not repeats (bullet3's NAO, with
+  // its mimicking fingers, was warned of "the same mimic between bodies world and world"); the
+  // same tie twice is.
+  const auto mimic = [](const std::string& name, const char* leader, const char* follower) {
+    return json{{"name", name}, {"type", "mimic"}, {"leader", leader}, {"follower", follower}};
+  };
+  scene["joints"].push_back(mimic("m1", "other_axis", "other_anchor"));
+  scene["joints"].push_back(mimic("m2", "other_axis", "to_world"));
+  scene["joints"].push_back(mimic("m3", "other_anchor", "to_world"));
+  scene["joints"].push_back(mimic("m1_again", "other_axis", "other_anchor"));
   std::ofstream(file) << scene.dump();
   const linx::Scene loaded = linx::loadModel(file);
   fs::remove(file);
-  ASSERT_EQ(loaded.warnings.size(), 1u);
+  ASSERT_EQ(loaded.warnings.size(), 2u);
+  EXPECT_EQ(loaded.warnings[1],
+            file.string() +
+                ": joints[9] (m1) repeated by 1 more (joints[12] (m1_again)): the same mimic "
+                "tying joints 'other_axis' and 'other_anchor' at the same anchor and axis; their "
+                "rows are redundant, which the exact solver solves densely at a cost growing with "
+                "the cube of their number; keep one");
   std::string expected = file.string();
   expected +=
       ": joints[0] (h0) repeated by 5 more (joints[1] (h1), joints[2] (h2), joints[3] "

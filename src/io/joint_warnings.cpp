@@ -21,6 +21,8 @@ constexpr std::size_t kMaxRepeats = 16;
 bool sameJoint(const SceneJoint& a, const SceneJoint& b) {
   const JointDef &p = a.def, &q = b.def;
   if (a.type != b.type || p.local != q.local) return false;
+  // A joint that ties joints (a mimic) is the same only when it ties the same two.
+  if (p.leader != q.leader || p.follower != q.follower) return false;
   const bool same_order = p.body1 == q.body1 && p.body2 == q.body2;
   const bool swapped = p.body1 == q.body2 && p.body2 == q.body1;
   // A local frame belongs to its body: only the same order compares.
@@ -34,6 +36,18 @@ bool sameJoint(const SceneJoint& a, const SceneJoint& b) {
 std::string bodyName(const Scene& scene, BodyId id) {
   return id.isWorld() ? std::string("world")
                       : "'" + scene.bodies[static_cast<std::size_t>(id.index)].name + "'";
+}
+
+/// What a joint joins: "between bodies 'a' and 'b'", or for one that ties joints (a mimic),
+/// "tying joints 'x' and 'y'" (its bodies are the world until the world is built).
+std::string joins(const Scene& scene, const JointDef& d) {
+  const auto jointName = [&](JointId id) {
+    return "'" + scene.joints[static_cast<std::size_t>(id.index)].def.name + "'";
+  };
+  if (d.leader && d.follower)
+    return fmt::format("tying joints {} and {}", jointName(*d.leader), jointName(*d.follower));
+  return fmt::format("between bodies {} and {}", bodyName(scene, d.body1),
+                     bodyName(scene, d.body2));
 }
 
 }  // namespace
@@ -56,12 +70,10 @@ std::vector<std::string> redundantJointWarnings(const Scene& scene) {
     if (repeats.size() > kMaxRepeats)
       throw SceneError(
           scene.file, fmt::format("joints[{}]", i),
-          fmt::format("'{}' repeated by {} more joints, above the limit of {}: the same {} between "
-                      "bodies {} and {} at the same anchor and axis, whose redundant rows the "
-                      "exact solver solves densely at a cost growing with the cube of their "
-                      "number; keep one",
-                      d.name, repeats.size(), kMaxRepeats, scene.joints[i].type,
-                      bodyName(scene, d.body1), bodyName(scene, d.body2)));
+          fmt::format("'{}' repeated by {} more joints, above the limit of {}: the same {} {} "
+                      "at the same anchor and axis, whose redundant rows the exact solver solves "
+                      "densely at a cost growing with the cube of their number; keep one",
+                      d.name, repeats.size(), kMaxRepeats, scene.joints[i].type, joins(scene, d)));
     const auto named = [&](std::size_t k) {
       return fmt::format("joints[{}] ({})", k, scene.joints[k].def.name);
     };
@@ -70,11 +82,10 @@ std::vector<std::string> redundantJointWarnings(const Scene& scene) {
       list += (k ? ", " : "") + named(repeats[k]);
     if (repeats.size() > kNamed) list += ", ...";
     warnings.push_back(fmt::format(
-        "{}: {} repeated by {} more ({}): the same {} between bodies {} and {} at the same anchor "
-        "and axis; their rows are redundant, which the exact solver solves densely at a cost "
-        "growing with the cube of their number; keep one",
-        scene.file, named(i), repeats.size(), list, scene.joints[i].type, bodyName(scene, d.body1),
-        bodyName(scene, d.body2)));
+        "{}: {} repeated by {} more ({}): the same {} {} at the same anchor and axis; their rows "
+        "are redundant, which the exact solver solves densely at a cost growing with the cube of "
+        "their number; keep one",
+        scene.file, named(i), repeats.size(), list, scene.joints[i].type, joins(scene, d)));
   }
   return warnings;
 }
