@@ -409,7 +409,7 @@ class UrdfImporter {
     }
     io::completeImported(scene, "link");
     scene.warnings = xml.unsupported.warnings(file_);
-    for (const std::string& w : meshes_made_convex_) scene.warnings.push_back(w);
+    if (!meshes_made_convex_.empty()) scene.warnings.push_back(convexMeshesWarning());
     return scene;
   }
 
@@ -628,8 +628,7 @@ class UrdfImporter {
         if (!on_static) {  // moving bodies collide through convex shapes
           s.type = ShapeType::Convex;
           s.triangles.clear();
-          meshes_made_convex_.push_back(fmt::format("{}: {}: mesh '{}' collides as its convex hull",
-                                                    file_, where, m.filename));
+          meshes_made_convex_.push_back(fmt::format("{} ('{}')", where, m.filename));
         }
         break;
       }
@@ -726,7 +725,23 @@ class UrdfImporter {
   urdf::ModelInterfaceSharedPtr model_;
   std::map<std::string, Pose> frame_;
   std::map<std::string, std::string> owner_;
-  std::vector<std::string> meshes_made_convex_;
+  std::vector<std::string> meshes_made_convex_;  // where each is, and its file
+
+  /// One warning for every mesh on a moving link: they collide as their convex hulls (the first
+  /// few named).
+  std::string convexMeshesWarning() const {
+    constexpr std::size_t kNamed = 4;
+    const std::size_t n = meshes_made_convex_.size();
+    std::string list;
+    for (std::size_t k = 0; k < std::min(n, kNamed); ++k)
+      list += (k ? ", " : "") + meshes_made_convex_[k];
+    if (n > kNamed) list += fmt::format(" and {} more", n - kNamed);
+    return fmt::format(
+        "{}: {} mesh{} on moving links collide{} as {} convex hull{} (linx's moving "
+        "bodies collide through convex shapes): {}",
+        file_, n, n == 1 ? "" : "es", n == 1 ? "s" : "", n == 1 ? "its" : "their",
+        n == 1 ? "" : "s", list);
+  }
 };
 
 }  // namespace
