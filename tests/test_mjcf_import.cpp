@@ -278,6 +278,22 @@ TEST_F(MjcfImport, PositionAndVelocityActuatorsAtZeroControlAreSpringsAndDampers
   EXPECT_NEAR(o.period / period, 1.0, 1e-3);
 }
 
+// An include inside an included file splices in too (its elements were dropped: tinyxml2 inserts
+// no node of another document), and the body it holds has its geom's mass: a 0.1 m sphere of
+// density 1000, 4/3 pi r^3 rho.
+TEST_F(MjcfImport, NestedIncludesSpliceTheirElements) {
+  write("parts/arm.xml",
+        "<mujoco><worldbody><body name='arm'><freejoint/><geom size='0.1'/></body></worldbody>"
+        "</mujoco>");
+  write("parts/outer.xml", "<mujoco><include file='arm.xml'/></mujoco>");
+  const Scene scene =
+      importMjcf(write("robot.xml", "<mujoco><include file='parts/outer.xml'/></mujoco>"));
+  ASSERT_EQ(scene.bodies.size(), 1u);
+  EXPECT_EQ(scene.bodies[0].name, "arm");
+  ASSERT_TRUE(scene.bodies[0].mass);
+  EXPECT_NEAR(*scene.bodies[0].mass, 4.0 / 3.0 * kPi * 1e-3 * 1000.0, 1e-12);
+}
+
 TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
   const auto refused = [&](const std::string& text, const std::string& expected) {
     const fs::path file = write("bad.xml", text);
@@ -326,6 +342,16 @@ TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
       "<mujoco><worldbody><body name='b'><freejoint/>"
       "<inertial mass='1' diaginertia='1 -1 1'/></body></worldbody></mujoco>",
       "body 'b': inertia: ");
+  // A fault in an element an include copied in: the element's own file and line (a copy has no
+  // line of its own: it was named at "line 0"), through nested includes too.
+  write("parts/arm.xml",
+        "<mujoco>\n<worldbody>\n<body name='arm'>\n<geom name='g' size='abc'/>\n</body>\n"
+        "</worldbody>\n</mujoco>");
+  refused("<mujoco>\n<include file='parts/arm.xml'/>\n</mujoco>",
+          "geom 'g' (parts/arm.xml, line 4): size: 'abc' is not a finite number");
+  write("parts/outer.xml", "<mujoco>\n\n<include file='arm.xml'/></mujoco>");
+  refused("<mujoco>\n<include file='parts/outer.xml'/>\n</mujoco>",
+          "geom 'g' (parts/arm.xml, line 4): size: 'abc' is not a finite number");
 }
 
 // Hostile files (a bad-input hunt): each refused with the exact element, line and problem, never

@@ -150,8 +150,14 @@ class MjcfImporter {
                                 "element counted at each include it is copied through)",
                                 name, kMaxModelElements));
         tinyxml2::XMLNode* after = e;
-        for (XMLElement* c = other_root->FirstChildElement(); c; c = c->NextSiblingElement())
-          after = parent->InsertAfterChild(after, c->DeepClone(&doc_));
+        for (XMLElement* c = other_root->FirstChildElement(); c; c = c->NextSiblingElement()) {
+          // Into the document that holds `parent` (an included file's, for a nested include):
+          // tinyxml2 inserts no node of another document, and a nested include's elements were
+          // silently dropped.
+          XMLElement* copy = c->DeepClone(parent->GetDocument())->ToElement();
+          noteOrigins(c, copy, included);
+          after = parent->InsertAfterChild(after, copy);
+        }
         parent->DeleteChild(e);
       } else {
         spliceIncludes(e, file, depth);
@@ -176,10 +182,35 @@ class MjcfImporter {
                            fmt::format("{}: not used by linx, ignored: {}", file_, list));
   }
 
-  static std::string where(const XMLElement* e) {
+  // Where an element came from when an <include> copied it in (a copy has no line of its own):
+  // its file, relative to the model's folder, and its line there.
+  struct Origin {
+    std::string file;
+    int line = 0;
+  };
+  std::map<const XMLElement*, Origin> origins_;
+
+  /// Records the origin of `copy` and its descendants, copied from `original` in `file` (or from
+  /// where `original` itself was copied from; its entry goes, as it dies with its document).
+  void noteOrigins(const XMLElement* original, const XMLElement* copy,
+                   const std::filesystem::path& file) {
+    auto known = origins_.extract(original);
+    origins_[copy] = known ? known.mapped()
+                           : Origin{file.lexically_relative(path_.parent_path()).string(),
+                                    original->GetLineNum()};
+    const XMLElement* c = copy->FirstChildElement();
+    for (const XMLElement* o = original->FirstChildElement(); o && c;
+         o = o->NextSiblingElement(), c = c->NextSiblingElement())
+      noteOrigins(o, c, file);
+  }
+
+  /// An element for a message: its tag, its name, and its line (and file, if included).
+  std::string where(const XMLElement* e) const {
     const char* name = e->Attribute("name");
-    return name ? fmt::format("{} '{}' (line {})", e->Name(), name, e->GetLineNum())
-                : fmt::format("{} (line {})", e->Name(), e->GetLineNum());
+    const std::string what = name ? fmt::format("{} '{}'", e->Name(), name) : e->Name();
+    if (const auto it = origins_.find(e); it != origins_.end())
+      return fmt::format("{} ({}, line {})", what, it->second.file, it->second.line);
+    return fmt::format("{} (line {})", what, e->GetLineNum());
   }
 
   std::vector<double> numbers(const std::string& text, const XMLElement* e,
