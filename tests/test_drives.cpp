@@ -343,11 +343,11 @@ TEST(DriveDefinitions, RefusedWithTheFieldNamed) {
     return std::string("(accepted)");
   };
   EXPECT_EQ(message([&] { j.setMotor(JointMotor{.target_position = 1.0}); }),
-            "motor.stiffness: a servo (target_position) needs stiffness > 0");
+            "motor.stiffness: a servo (target_position) needs a stiffness > 0 to pull towards it");
   EXPECT_EQ(message([&] { j.setMotor(JointMotor{.stiffness = 5.0}); }),
-            "motor.stiffness: needs a target_position to pull towards");
+            "motor.target_position: missing: a stiffness pulls towards a target_position");
   EXPECT_EQ(message([&] { j.setMotor(JointMotor{.damping = -1.0}); }),
-            "motor.damping: must be finite and >= 0");
+            "motor.damping: must be >= 0, got -1");
   EXPECT_EQ(message([&] {
               j.setMotor(JointMotor{.target_position = Signal({0.0, 1.0, 1.0}, {0, 1, 2}),
                                     .stiffness = 1.0});
@@ -358,7 +358,7 @@ TEST(DriveDefinitions, RefusedWithTheFieldNamed) {
             }),
             "motor.target_velocity: 2 times but 1 values");
   EXPECT_EQ(message([&] { j.setSpring(JointSpring{.stiffness = kInfinity}); }),
-            "spring.stiffness: must be finite and >= 0");
+            "spring.stiffness: must be finite");
   EXPECT_EQ(message([&] { j.setSpring(JointSpring{.stiffness = 1.0, .rest = std::nan("")}); }),
             "spring.rest: must be finite");
   const BodyId ball =

@@ -613,14 +613,13 @@ TEST(SceneError, Faults) {
 TEST(SceneError, Integrator) {
   expectErrors({
       {[](json& s) { s["integrator"] = "rk4"; }, "integrator",
-       "unknown integrator 'rk4' (expected \"auto\", \"step\" or \"accurate\")"},
+       "unknown value 'rk4' (expected \"step\", \"accurate\" or \"auto\")"},
       {[](json& s) { s["integrator"] = 1; }, "integrator",
        "expected \"auto\", \"step\", \"accurate\" or an object, got a number"},
       {[](json& s) {
          s["integrator"] = {{"type", "Accurate"}};
        },
-       "integrator.type",
-       "unknown integrator 'Accurate' (expected \"auto\", \"step\" or \"accurate\")"},
+       "integrator.type", "unknown value 'Accurate' (expected \"step\", \"accurate\" or \"auto\")"},
       {[](json& s) {
          s["integrator"] = {{"tolerence", 1e-9}};
        },
@@ -628,11 +627,11 @@ TEST(SceneError, Integrator) {
       {[](json& s) {
          s["integrator"] = {{"tolerance", 0}};
        },
-       "integrator.tolerance", "must be > 0, got 0"},
+       "integrator.tolerance", "must be between 1e-14 and 0.01, got 0"},
       {[](json& s) {
          s["integrator"] = {{"tolerance", 0.5}};
        },
-       "integrator.tolerance", "must be between 1e-14 and 1e-2, got 0.5"},
+       "integrator.tolerance", "must be between 1e-14 and 0.01, got 0.5"},
   });
 }
 
@@ -662,7 +661,7 @@ TEST(SceneError, Solver) {
   expectErrors({
       {[](json& s) { s["solver"] = "pgs"; }, "solver", "expected an object, got a string"},
       {[](json& s) { s["solver"]["type"] = "fast"; }, "solver.type",
-       "unknown solver type 'fast' (expected \"auto\", \"exact\", \"pgs\" or \"soft\")"},
+       "unknown value 'fast' (expected \"auto\", \"exact\", \"pgs\" or \"soft\")"},
       {[](json& s) { s["solver"]["iteration"] = 5; }, "solver.iteration",
        "unknown field (did you mean 'iterations'?)"},
       {[](json& s) { s["solver"]["iterations"] = 0; }, "solver.iterations",
@@ -918,7 +917,8 @@ TEST(SceneError, Joints) {
          s["joints"][0]["locked"] = true;
          s["joints"][0]["armature"] = 0.1;
        },
-       "joints[0].armature", "a locked coordinate takes nothing else"},
+       "joints[0].locked",
+       "a locked coordinate takes no limits, motor, spring, friction, armature or force"},
       {joint(R"({"name": "s", "type": "serial", "body1": "a"})"), "joints[0].axes",
        "missing required field"},
       {joint(R"({"name": "s", "type": "serial", "body1": "a", "axes": []})"), "joints[0].axes",
@@ -1062,12 +1062,13 @@ TEST(SceneError, Joints) {
        "joints[0].cone", "not used by a hinge joint"},
       {joint(R"({"name": "g", "type": "generic", "body1": "a", "anchor": [0, 0, 0],
                  "axis1": [1, 0, 0], "axis2": [0, 1, 0], "rz": {"locked": true, "friction": 1}})"),
-       "joints[0].rz.friction", "a locked coordinate takes nothing else"},
+       "joints[0].rz.locked",
+       "a locked coordinate takes no limits, motor, spring, friction, armature or force"},
       {[](json& s) {
          s["joints"][0]["prescribed"] = {{"times", {0, 1}}, {"values", {0, 1}}};
          s["joints"][0]["friction"] = 1;
        },
-       "joints[0].friction", "a prescribed coordinate takes nothing else"},
+       "joints[0].prescribed", "a prescribed coordinate takes no limits, motor, spring"},
       {[](json& s) { s["joints"][0]["break_force"] = 0; }, "joints[0].break_force", "must be > 0"},
       {[](json& s) { s["joints"][0]["prescribed"] = "fast"; }, "joints[0].prescribed",
        "expected a number or a table"},

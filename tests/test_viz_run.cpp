@@ -259,7 +259,8 @@ TEST(SceneView, IsValidatedWithTheFieldPath) {
     }
     return "no error";
   };
-  EXPECT_EQ(error(R"({"fov": 200})"), "s.json: view.fov: must be in (0, 180) degrees, got 200");
+  EXPECT_EQ(error(R"({"fov": 200})"),
+            "s.json: view.fov: must be strictly between 0 and 180, got 200");
   EXPECT_EQ(error(R"({"eye": [1, 2, 3], "target": [1, 2, 3]})"),
             "s.json: view.target: must differ from eye");
   EXPECT_EQ(error(R"({"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 0, 2]})"),

@@ -16,6 +16,7 @@
 #include "progress.hpp"
 #include "render_command.hpp"
 #include "run_command.hpp"
+#include "schema_command.hpp"
 #include "soak_command.hpp"
 #include "stop_signals.hpp"
 #include "view_command.hpp"
@@ -244,6 +245,10 @@ int main(int argc, char** argv) {
   CLI::App* plot_cmd = app.add_subcommand(
       "plot", "Plot a run's energies, joint coordinates and errors, and solver residuals");
   linx::cli::addPlotOptions(*plot_cmd, plot_options);
+  linx::cli::SchemaOptions schema_options;
+  CLI::App* schema_cmd = app.add_subcommand(
+      "schema", "Print the scene format's fields: types, bounds, defaults and meanings");
+  linx::cli::addSchemaOptions(*schema_cmd, schema_options);
   linx::cli::ViewOptions view_options;
   CLI::App* view_cmd =
       app.add_subcommand("view", "Serve a 3D viewer of a run on 127.0.0.1 for a browser");
@@ -297,6 +302,7 @@ int main(int argc, char** argv) {
     }
     if (*plot_cmd) return linx::cli::plot(plot_options);
     if (*view_cmd) return linx::cli::view(view_options);
+    if (*schema_cmd) return linx::cli::schema(schema_options);
     if (*convert_cmd) {
       options.scene = convert_options.input;  // names the input in messages
       return convert(convert_options);

@@ -31,6 +31,8 @@
 #include "io/quoting.hpp"
 #include "io/suggestion.hpp"
 #include "io/text_number.hpp"
+#include "io/unit_vectors.hpp"
+#include "schema/describe.hpp"
 
 namespace linx {
 
@@ -45,12 +47,9 @@ SceneError::SceneError(std::string file, std::string field, std::string problem)
 
 namespace {
 
-// What acts on a joint's free coordinate (CoordinateDef).
-constexpr std::string_view kCoordinateFields[] = {"limits",   "motor",      "spring",    "friction",
-                                                  "locked",   "prescribed", "reference", "initial",
-                                                  "armature", "force"};
-
-using json = nlohmann::json;
+// Ordered: objects keep the file's order, so that their fields are read, and their problems found,
+// in it.
+using json = nlohmann::ordered_json;
 
 std::string childPath(const std::string& parent, std::string_view key) {
   return parent.empty() ? std::string(key) : fmt::format("{}.{}", parent, key);
@@ -166,6 +165,60 @@ std::string suggestion(std::string_view name, const Names& names) {
   const std::string_view best = io::closestName(name, names);
   return best.empty() ? std::string() : fmt::format(" (did you mean '{}'?)", best);
 }
+
+// The names of a described record's fields, and their aliases (other formats' names for them).
+class FieldNames {
+ public:
+  template <class T>
+  void field(T&, const schema::FieldInfo& info) {
+    fields_.push_back(info);
+  }
+  // " (did you mean 'max_force'?)" for a name close to a field's, or one of its aliases.
+  std::string suggestion(std::string_view name) const {
+    for (const schema::FieldInfo& f : fields_)
+      for (std::string_view alias : f.aliases)
+        if (alias == name) return fmt::format(" (did you mean '{}'?)", f.name);
+    std::vector<std::string_view> names;
+    for (const schema::FieldInfo& f : fields_) names.push_back(f.name);
+    if (const std::string_view best = io::closestName(name, names); !best.empty())
+      return fmt::format(" (did you mean '{}'?)", best);
+    for (const schema::FieldInfo& f : fields_)
+      for (std::string_view alias : f.aliases)
+        if (io::editDistance(name, alias) <= 1) return fmt::format(" (did you mean '{}'?)", f.name);
+    // A word of a longer name: "velocity" for "target_velocity".
+    for (const schema::FieldInfo& f : fields_) {
+      const auto at = f.name.find(name);
+      const bool word = at != std::string_view::npos && name.size() >= 3 &&
+                        (at == 0 || f.name[at - 1] == '_') &&
+                        (at + name.size() == f.name.size() || f.name[at + name.size()] == '_');
+      if (word) return fmt::format(" (did you mean '{}'?)", f.name);
+    }
+    return {};
+  }
+  bool has(std::string_view name) const {
+    return std::any_of(fields_.begin(), fields_.end(),
+                       [&](const schema::FieldInfo& f) { return f.name == name; });
+  }
+  std::vector<std::string_view> names() const {
+    std::vector<std::string_view> out;
+    for (const schema::FieldInfo& f : fields_) out.push_back(f.name);
+    return out;
+  }
+
+ private:
+  std::vector<schema::FieldInfo> fields_;
+};
+
+template <class R>
+FieldNames fieldNames() {
+  FieldNames names;
+  R r{};
+  schema::describe(names, r);
+  return names;
+}
+
+// What acts on a joint's free coordinate (CoordinateDef): its fields' names.
+const std::vector<std::string_view> kCoordinateFields = fieldNames<CoordinateDef>().names();
 
 // A value in the document and its path, for messages.
 struct Node {
@@ -385,45 +438,132 @@ class Reader {
 
   Vec3 vec3(const Node& n) const { return vector<3>(n); }
 
-  // A direction: any non-zero vector, returned normalized.
+  // A direction: any non-zero vector, returned of unit length (io::readNormalized).
   Vec3 direction(const Node& n) const {
     const Vec3 v = vec3(n);
-    const double length = v.stableNorm();
-    if (!(length > 0)) fail(n.path, "must not be zero");
-    return v / length;
+    if (!(v.stableNorm() > 0)) fail(n.path, "must not be zero");
+    return io::readNormalized<3>(v);
   }
 
-  SceneView view(const Node& n) const {
-    expectObject(n);
-    allowOnly(n, {"eye", "target", "up", "fov"});
-    SceneView v;
-    if (auto e = get(n, "eye")) v.eye = vec3(*e);
-    if (auto t = get(n, "target")) {
-      v.target = vec3(*t);
-      if (v.eye && (*v.target - *v.eye).norm() <= 1e-12 * (1 + v.eye->norm()))
-        fail(t->path, "must differ from eye");
+  // --- Described records (src/schema/describe.hpp) ----------------------------------------------
+
+  // Reads one field of a described record, the one the file's key names.
+  class FieldReader {
+   public:
+    FieldReader(const Reader& reader, std::string_view key, const Node& node)
+        : reader_(reader), key_(key), node_(node) {}
+    bool found() const { return found_; }
+
+    void field(double& x, const schema::FieldInfo& info) {
+      if (mine(info)) x = inRange(reader_.number(node_), info);
     }
-    if (auto u = get(n, "up")) {
-      v.up = direction(*u);
-      if (v.eye && v.target) {
-        const Vec3 look = (*v.target - *v.eye).normalized();
-        if (look.cross(*v.up).norm() < 1e-6) fail(u->path, "must not be parallel to target - eye");
+    void field(int& x, const schema::FieldInfo& info) {
+      if (!mine(info)) return;
+      const double v = reader_.number(node_);
+      if (v > std::numeric_limits<int>::max())
+        reader_.fail(node_.path, fmt::format("must be an integer from {} to {}, got {:g}",
+                                             info.range.lower, std::numeric_limits<int>::max(), v));
+      if (v != std::floor(v)) reader_.fail(node_.path, info.range.problem(v, true));
+      x = static_cast<int>(inRange(v, info, true));
+    }
+    void field(bool& x, const schema::FieldInfo& info) {
+      if (mine(info)) x = reader_.boolean(node_);
+    }
+    void field(Signal& x, const schema::FieldInfo& info) {
+      if (mine(info)) x = reader_.signal(node_);
+    }
+    void field(std::optional<double>& x, const schema::FieldInfo& info) {
+      if (mine(info)) x = inRange(reader_.number(node_), info);
+    }
+    void field(std::optional<Vec3>& x, const schema::FieldInfo& info) {
+      if (mine(info)) x = info.direction ? reader_.direction(node_) : reader_.vec3(node_);
+    }
+    void field(std::optional<Signal>& x, const schema::FieldInfo& info) {
+      if (mine(info)) x = reader_.signal(node_);
+    }
+    template <class R>
+    requires schema::kIsRecord<R>
+    void field(std::optional<R>& x, const schema::FieldInfo& info) {
+      if (mine(info)) x = reader_.record<R>(node_);
+    }
+    template <class E>
+    requires std::is_enum_v<E>
+    void field(E& x, const schema::FieldInfo& info) {
+      if (!mine(info)) return;
+      const std::string name = reader_.string(node_);
+      const auto it = std::find(info.choices.begin(), info.choices.end(), name);
+      if (it == info.choices.end()) {
+        std::string expected;
+        for (std::size_t i = 0; i < info.choices.size(); ++i)
+          expected += fmt::format("{}\"{}\"",
+                                  i == 0                         ? ""
+                                  : i + 1 == info.choices.size() ? " or "
+                                                                 : ", ",
+                                  info.choices[i]);
+        reader_.fail(node_.path, fmt::format("unknown value '{}' (expected {})", name, expected));
       }
+      x = static_cast<E>(it - info.choices.begin());
     }
-    if (auto f = get(n, "fov")) {
-      v.fov = number(*f);
-      if (!(v.fov > 0 && v.fov < 180))
-        fail(f->path, fmt::format("must be in (0, 180) degrees, got {}", v.fov));
+
+   private:
+    bool mine(const schema::FieldInfo& info) {
+      if (info.name != key_) return false;
+      found_ = true;
+      return true;
     }
-    return v;
+    double inRange(double x, const schema::FieldInfo& info, bool integer = false) const {
+      if (!info.range.contains(x)) reader_.fail(node_.path, info.range.problem(x, integer));
+      return x;
+    }
+
+    const Reader& reader_;
+    std::string_view key_;
+    const Node& node_;
+    bool found_ = false;
+  };
+
+  // The fields of `n` that record R describes, into `r`, in the file's order. Another field is
+  // an error where it comes when `only_these`; else it is left to the caller (a joint's own).
+  template <class R>
+  void readFields(const Node& n, R& r, bool only_these) const {
+    for (const auto& [key, value] : n.value.items()) {
+      const Node field{value, childPath(n.path, key)};
+      FieldReader reader(*this, key, field);
+      schema::describe(reader, r);
+      if (!reader.found() && only_these)
+        fail(field.path, "unknown field" + fieldNames<R>().suggestion(key));
+    }
   }
+
+  // The record's rules, a problem named by its field (or the record).
+  template <class R>
+  void applyRules(const Node& n, const R& r) const {
+    if constexpr (requires { schema::rules(r); }) {
+      if (const auto p = schema::rules(r))
+        fail(p->field.empty() ? n.path : childPath(n.path, p->field), p->problem);
+    }
+  }
+
+  // A described record: an object of its fields alone, each checked as it comes in the file, an
+  // unknown one named with the closest field's name; then its rules.
+  template <class R>
+  R record(const Node& n, R r = {}) const {
+    expectObject(n);
+    readFields(n, r, true);
+    applyRules(n, r);
+    fileRules(n, r);
+    return r;
+  }
+
+  SceneView view(const Node& n) const { return record<SceneView>(n); }
 
   // [w, x, y, z], normalized.
   Quat orientation(const Node& n) const {
     const Eigen::Vector4d c = vector<4>(n);
-    const double length = c.stableNorm();
-    if (!(length > 0)) fail(n.path, "must not be zero (a rotation quaternion [w, x, y, z])");
-    return Quat(c[0] / length, c[1] / length, c[2] / length, c[3] / length);
+    if (!(c.stableNorm() > 0))
+      fail(n.path, "must not be zero (a rotation quaternion [w, x, y, z])");
+    const Eigen::Vector4d u = io::readNormalized<4>(c);
+    return Quat(u[0], u[1], u[2], u[3]);
   }
 
   // Principal moments [Ixx, Iyy, Izz] or a full symmetric positive definite 3x3 matrix.
@@ -456,130 +596,22 @@ class Reader {
 
   // "integrator": "auto" | "step" | "accurate", or {"type": ..., "tolerance": ...}.
   IntegratorSettings integrator(const Node& n) const {
-    IntegratorSettings s;
-    const auto type = [&](const Node& t) {
-      const std::string name = string(t);
-      if (name == "step") {
-        s.type = IntegratorType::Step;
-      } else if (name == "accurate") {
-        s.type = IntegratorType::Accurate;
-      } else if (name == "auto") {
-        s.type = IntegratorType::Auto;
-      } else {
-        fail(t.path,
-             fmt::format("unknown integrator '{}' (expected \"auto\", \"step\" or \"accurate\")",
-                         name));
-      }
-    };
-    if (n.value.is_string()) {
-      type(n);
+    if (n.value.is_string()) {  // the type alone
+      IntegratorSettings s;
+      FieldReader type(*this, "type", n);
+      schema::describe(type, s);
       return s;
     }
     if (!n.value.is_object())
       fail(n.path, fmt::format("expected \"auto\", \"step\", \"accurate\" or an object, got {}",
                                describe(n.value)));
-    allowOnly(n, {"type", "tolerance"});
-    if (auto t = get(n, "type")) type(*t);
-    if (auto v = get(n, "tolerance")) {
-      s.tolerance = positive(*v);
-      if (s.tolerance > 1e-2 || s.tolerance < 1e-14)
-        fail(v->path, fmt::format("must be between 1e-14 and 1e-2, got {}", s.tolerance));
-    }
-    return s;
+    return record<IntegratorSettings>(n);
   }
 
-  SolverSettings solver(const Node& n) const {
-    allowOnly(n, {"type", "iterations", "tolerance", "erp", "cfm", "warm_start", "sor", "substeps",
-                  "post_stabilization", "projection", "projection_iterations",
-                  "projection_tolerance", "geometric_stiffness"});
-    SolverSettings s;
-    if (auto t = get(n, "type")) {
-      const std::string type = string(*t);
-      if (type == "auto") {
-        s.type = SolverType::Auto;
-      } else if (type == "exact") {
-        s.type = SolverType::Exact;
-      } else if (type == "pgs") {
-        s.type = SolverType::Pgs;
-      } else if (type == "soft") {
-        s.type = SolverType::Soft;
-      } else {
-        fail(t->path, fmt::format("unknown solver type '{}' (expected \"auto\", \"exact\", "
-                                  "\"pgs\" or \"soft\")",
-                                  type));
-      }
-    }
-    if (auto v = get(n, "iterations")) s.iterations = integer(*v, 1);
-    if (auto v = get(n, "tolerance")) s.tolerance = nonNegative(*v);
-    if (auto v = get(n, "erp")) s.erp = unitInterval(*v);
-    if (auto v = get(n, "cfm")) s.cfm = nonNegative(*v);
-    if (auto v = get(n, "warm_start")) s.warm_start = boolean(*v);
-    if (auto v = get(n, "sor")) {
-      s.sor = number(*v);
-      if (!(s.sor > 0 && s.sor < 2)) {
-        fail(v->path, fmt::format("must be strictly between 0 and 2, got {}", s.sor));
-      }
-    }
-    if (auto v = get(n, "substeps")) s.substeps = integer(*v, 1);
-    if (auto v = get(n, "post_stabilization")) s.post_stabilization = integer(*v, 0);
-    if (auto v = get(n, "projection")) s.projection = boolean(*v);
-    if (auto v = get(n, "projection_iterations")) s.projection_iterations = integer(*v, 1);
-    if (auto v = get(n, "projection_tolerance")) s.projection_tolerance = nonNegative(*v);
-    if (auto v = get(n, "geometric_stiffness")) s.geometric_stiffness = boolean(*v);
-    return s;
-  }
-
-  ContactSettings contact(const Node& n) const {
-    allowOnly(n, {"enabled", "margin", "slop", "erp", "cfm", "stiffness", "damping",
-                  "restitution_threshold", "max_push_out", "hertz", "damping_ratio"});
-    ContactSettings c;
-    if (auto v = get(n, "enabled")) c.enabled = boolean(*v);
-    if (auto v = get(n, "margin")) c.margin = nonNegative(*v);
-    if (auto v = get(n, "slop")) c.slop = nonNegative(*v);
-    if (auto v = get(n, "erp")) c.erp = unitInterval(*v);
-    if (auto v = get(n, "cfm")) c.cfm = nonNegative(*v);
-    if (auto v = get(n, "restitution_threshold")) c.restitution_threshold = nonNegative(*v);
-    if (auto v = get(n, "max_push_out")) c.max_push_out = nonNegative(*v);
-    if (auto v = get(n, "hertz")) c.hertz = nonNegative(*v);
-    if (auto v = get(n, "damping_ratio")) c.damping_ratio = nonNegative(*v);
-    const auto k = get(n, "stiffness"), d = get(n, "damping");
-    if (k.has_value() != d.has_value())
-      fail(childPath(n.path, k ? "damping" : "stiffness"),
-           "missing required field (stiffness and damping go together)");
-    if (k) {
-      if (n.value.contains("erp") || n.value.contains("cfm"))
-        fail(childPath(n.path, n.value.contains("erp") ? "erp" : "cfm"),
-             "give either erp and cfm, or stiffness and damping");
-      c.stiffness = positive(*k);
-      c.damping = nonNegative(*d);
-    }
-    return c;
-  }
-
-  SleepSettings sleep(const Node& n) const {
-    allowOnly(n, {"enabled", "linear_velocity", "angular_velocity", "time"});
-    SleepSettings s;
-    if (auto v = get(n, "enabled")) s.enabled = boolean(*v);
-    if (auto v = get(n, "linear_velocity")) s.linear_velocity = nonNegative(*v);
-    if (auto v = get(n, "angular_velocity")) s.angular_velocity = nonNegative(*v);
-    if (auto v = get(n, "time")) s.time = nonNegative(*v);
-    return s;
-  }
-
-  FaultSettings faults(const Node& n) const {
-    allowOnly(n, {"energy", "kinetic_fraction", "height", "speed", "max_speed", "max_angular_speed",
-                  "max_joint_error", "joint_error_every"});
-    FaultSettings s;
-    if (auto v = get(n, "energy")) s.energy = boolean(*v);
-    if (auto v = get(n, "kinetic_fraction")) s.kinetic_fraction = nonNegative(*v);
-    if (auto v = get(n, "height")) s.height = nonNegative(*v);
-    if (auto v = get(n, "speed")) s.speed = nonNegative(*v);
-    if (auto v = get(n, "max_speed")) s.max_speed = positive(*v);
-    if (auto v = get(n, "max_angular_speed")) s.max_angular_speed = positive(*v);
-    if (auto v = get(n, "max_joint_error")) s.max_joint_error = positive(*v);
-    if (auto v = get(n, "joint_error_every")) s.joint_error_every = integer(*v, 1);
-    return s;
-  }
+  SolverSettings solver(const Node& n) const { return record<SolverSettings>(n); }
+  ContactSettings contact(const Node& n) const { return record<ContactSettings>(n); }
+  SleepSettings sleep(const Node& n) const { return record<SleepSettings>(n); }
+  FaultSettings faults(const Node& n) const { return record<FaultSettings>(n); }
 
   ShapeDef shape(const Node& n) const {
     expectObject(n);
@@ -877,7 +909,7 @@ class Reader {
         "axis1",        "axis2",  "erp",   "cfm",    "collide",  "anchor1",
         "anchor2",      "length", "rope",  "cone",   "ratio",    "break_force",
         "break_torque", "axes",   "frame", "leader", "follower", "offset"};
-    allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
+    allowed.insert(allowed.end(), kCoordinateFields.begin(), kCoordinateFields.end());
     for (int i = 0; free > 1 && i < free; ++i)
       allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
     allowOnly(n, allowed);
@@ -986,8 +1018,7 @@ class Reader {
       for (int i = 0; i < free; ++i) {
         const auto v = get(n, fields->coordinates[static_cast<std::size_t>(i)].name);
         if (v) {
-          allowOnly(*v, kCoordinateFields);
-          d.coordinates[static_cast<std::size_t>(i)] = coordinate(*v);
+          d.coordinates[static_cast<std::size_t>(i)] = record<CoordinateDef>(*v);
         }
       }
       for (std::string_view key : kCoordinateFields)
@@ -1047,7 +1078,7 @@ class Reader {
       const Node item{n.value[i], itemPath(n.path, i)};
       expectObject(item);
       std::vector<std::string_view> allowed{"type", "axis", "anchor"};
-      allowed.insert(allowed.end(), std::begin(kCoordinateFields), std::end(kCoordinateFields));
+      allowed.insert(allowed.end(), kCoordinateFields.begin(), kCoordinateFields.end());
       allowOnly(item, allowed);
       const Node type = require(item, "type");
       const std::string kind = string(type);
@@ -1187,71 +1218,35 @@ class Reader {
                        apart));
   }
 
-  // What acts on a free coordinate: the fields kCoordinateFields of `n`.
+  // What acts on a free coordinate: the fields of `n` that a CoordinateDef describes (the others
+  // are the joint's, checked by it).
   CoordinateDef coordinate(const Node& n) const {
     CoordinateDef c;
-    if (auto v = get(n, "limits")) c.limits = limits(*v);
-    if (auto v = get(n, "motor")) c.motor = motor(*v);
-    if (auto v = get(n, "spring")) c.spring = spring(*v);
-    if (auto v = get(n, "friction")) c.friction = nonNegative(*v);
-    if (auto v = get(n, "locked")) {
-      c.locked = boolean(*v);
-      for (std::string_view key :
-           {"limits", "motor", "spring", "friction", "prescribed", "armature", "force"})
-        if (c.locked && n.value.contains(key))
-          fail(childPath(n.path, key), "a locked coordinate takes nothing else");
-    }
-    if (auto v = get(n, "force")) c.force = signal(*v);
-    if (auto v = get(n, "armature")) c.armature = nonNegative(*v);
-    if (auto v = get(n, "reference")) c.reference = number(*v);
-    if (auto v = get(n, "initial")) {
-      c.initial = number(*v);
-      if (c.locked) fail(v->path, "a locked coordinate stays where it was made");
-    }
-    if (auto v = get(n, "prescribed")) {
-      c.prescribed = signal(*v);
-      for (std::string_view key : {"limits", "motor", "spring", "friction", "armature", "force"})
-        if (n.value.contains(key))
-          fail(childPath(n.path, key),
-               "a prescribed coordinate takes nothing else (it moves as the table says)");
-    }
+    readFields(n, c, false);
+    applyRules(n, c);
     return c;
   }
 
-  JointLimits limits(const Node& n) const {
-    allowOnly(n, {"lower", "upper"});
-    JointLimits l;
-    if (auto v = get(n, "lower")) l.lower = number(*v);
-    if (auto v = get(n, "upper")) l.upper = number(*v);
-    if (l.lower > l.upper) {
-      fail(n.path, fmt::format("lower ({}) is above upper ({})", l.lower, l.upper));
-    }
-    return l;
-  }
+  JointLimits limits(const Node& n) const { return record<JointLimits>(n); }
 
-  JointMotor motor(const Node& n) const {
-    allowOnly(n, {"target_velocity", "target_position", "stiffness", "damping", "max_force"});
-    JointMotor m;
-    if (auto v = get(n, "target_velocity")) m.target_velocity = signal(*v);
-    if (auto v = get(n, "target_position")) m.target_position = signal(*v);
-    if (auto v = get(n, "stiffness")) m.stiffness = nonNegative(*v);
-    if (auto v = get(n, "damping")) m.damping = nonNegative(*v);
-    if (m.target_position && !(m.stiffness > 0.0)) {
-      fail(childPath(n.path, "stiffness"),
-           "a servo (target_position) needs a stiffness > 0 to pull towards it");
-    }
-    if (!m.target_position && m.stiffness > 0.0) {
-      fail(childPath(n.path, "target_position"),
-           "missing: a stiffness pulls towards a target_position");
-    }
-    // A rigid velocity motor needs its bound; a servo or a damped motor may be unbounded.
-    if (m.isServo()) {
-      if (auto v = get(n, "max_force")) m.max_force = nonNegative(*v);
-    } else {
-      m.max_force = nonNegative(require(n, "max_force"));
-    }
-    return m;
+  // What a file says more than the C++ API: a rigid velocity motor states its bound, a spring
+  // states what it is.
+  void fileRules(const Node& n, const JointMotor& m) const {
+    if (!m.isServo() && !n.value.contains("max_force"))
+      fail(childPath(n.path, "max_force"),
+           "missing required field (a velocity motor holds its rate rigidly: give its bound)");
   }
+  void fileRules(const Node& n, const JointSpring&) const {
+    if (!n.value.contains("stiffness") && !n.value.contains("damping"))
+      fail(n.path, "needs a stiffness, a damping or both");
+  }
+  void fileRules(const Node& n, const ContactSettings& c) const {
+    for (const char* key : {"erp", "cfm"})
+      if (c.stiffness && n.value.contains(key))
+        fail(childPath(n.path, key), "give either erp and cfm, or stiffness and damping");
+  }
+  template <class R>
+  void fileRules(const Node&, const R&) const {}
 
   // A number, or a table in time: {"times": [...], "values": [...]} or {"file": "CSV"} (two
   // columns, time and value, after an optional header line; relative to the scene file).
@@ -1342,17 +1337,6 @@ class Reader {
     if (table.times.empty())
       fail(field, fmt::format("{}: no rows of time and value", path.string()));
     return table;
-  }
-
-  JointSpring spring(const Node& n) const {
-    allowOnly(n, {"stiffness", "damping", "rest"});
-    JointSpring s;
-    if (auto v = get(n, "stiffness")) s.stiffness = nonNegative(*v);
-    if (auto v = get(n, "damping")) s.damping = nonNegative(*v);
-    if (auto v = get(n, "rest")) s.rest = number(*v);
-    if (!get(n, "stiffness") && !get(n, "damping"))
-      fail(n.path, "needs a stiffness, a damping or both");
-    return s;
   }
 
   const std::string& file_;

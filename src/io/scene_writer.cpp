@@ -20,6 +20,10 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <type_traits>
+
+#include "io/unit_vectors.hpp"
+#include "schema/describe.hpp"
 
 namespace linx {
 
@@ -74,14 +78,10 @@ json vec3(const Vec3& v, const std::string& field) {
   return numbers<3>(v, field);
 }
 
-// What the reader makes of a direction or a quaternion: v / |v| (scene_reader.cpp, direction()
-// and orientation()).
+// What the reader makes of a direction or a quaternion (io::readNormalized).
 template <int N>
 Eigen::Matrix<double, N, 1> readerNormalized(const Eigen::Matrix<double, N, 1>& v) {
-  const double length = v.stableNorm();
-  Eigen::Matrix<double, N, 1> out;
-  for (int i = 0; i < N; ++i) out[i] = v[i] / length;
-  return out;
+  return io::readNormalized<N>(v);
 }
 
 // A vector that the reader normalizes to exactly `v`: `v` itself when its length is 1 to the bit.
@@ -156,10 +156,6 @@ json vectorSignal(const VectorSignal& v, const std::string& field) {
   return out;
 }
 
-bool isZeroSignal(const Signal& s) {
-  return isConstant(s) && s.values.size() == 1 && same(s.values[0], 0.0);
-}
-
 // Sets `key` when `value` differs (to the bit) from what the reader takes when it is left out.
 void putIfChanged(json& j, std::string_view key, double value, double fallback,
                   const std::string& parent) {
@@ -184,6 +180,91 @@ void putSection(json& root, std::string_view key, json section) {
   if (!section.empty()) root[std::string(key)] = std::move(section);
 }
 
+// --- Described records (src/schema/describe.hpp) ------------------------------------------------
+
+template <class R>
+json record(const R& r, const std::string& path);
+
+// Every field of a record that holds a value, as the reader reads it back.
+class FieldWriter {
+ public:
+  FieldWriter(json& out, const std::string& path) : out_(out), path_(path) {}
+
+  void field(const double& x, const schema::FieldInfo& info) {
+    if (!(info.infinite && std::isinf(x))) put(info, number(x, path(info)));  // inf: unbounded
+  }
+  void field(const int& x, const schema::FieldInfo& info) { put(info, x); }
+  void field(const bool& x, const schema::FieldInfo& info) { put(info, x); }
+  void field(const Signal& x, const schema::FieldInfo& info) { put(info, signal(x, path(info))); }
+  void field(const std::optional<double>& x, const schema::FieldInfo& info) {
+    if (x) field(*x, info);
+  }
+  void field(const std::optional<Vec3>& x, const schema::FieldInfo& info) {
+    if (x) put(info, info.direction ? direction(*x, path(info)) : vec3(*x, path(info)));
+  }
+  void field(const std::optional<Signal>& x, const schema::FieldInfo& info) {
+    if (x) field(*x, info);
+  }
+  template <class R>
+  requires schema::kIsRecord<R>
+  void field(const std::optional<R>& x, const schema::FieldInfo& info) {
+    if (x) put(info, record(*x, path(info)));
+  }
+  template <class E>
+  requires std::is_enum_v<E>
+  void field(const E& x, const schema::FieldInfo& info) {
+    put(info, std::string(info.choices[static_cast<std::size_t>(x)]));
+  }
+
+ private:
+  std::string path(const schema::FieldInfo& info) const { return childPath(path_, info.name); }
+  void put(const schema::FieldInfo& info, json value) {
+    out_[std::string(info.name)] = std::move(value);
+  }
+
+  json& out_;
+  const std::string& path_;
+};
+
+// All the fields of `r`, with nothing but what the reader needs: a field equal to the default
+// record's (to the bit: the same text) is left out.
+template <class R>
+json allFields(const R& r, const std::string& path) {
+  json out = json::object();
+  FieldWriter writer(out, path);
+  R copy = r;  // describe() takes a record it may change; the writer only reads it
+  schema::describe(writer, copy);
+  return out;
+}
+
+// What a scene file needs more than the C++ API (scene_reader.cpp's fileRules): a rigid velocity
+// motor's bound, a spring's stiffness or damping stated.
+void fileRules(json&, const JointMotor& m, const std::string& path) {
+  if (!m.isServo() && !std::isfinite(m.max_force))
+    fail(childPath(path, "max_force"),
+         "a velocity motor in a scene file needs a finite max_force, this one has none");
+}
+void fileRules(json& j, const JointSpring& s, const std::string& path) {
+  if (!j.contains("stiffness") && !j.contains("damping"))
+    j["stiffness"] = number(s.stiffness, childPath(path, "stiffness"));
+}
+template <class R>
+void fileRules(json&, const R&, const std::string&) {}
+
+template <class R>
+json record(const R& r, const std::string& path) {
+  if constexpr (requires { schema::rules(r); }) {
+    if (const auto p = schema::rules(r))
+      fail(p->field.empty() ? path : childPath(path, p->field), p->problem);
+  }
+  json out = allFields(r, path);
+  const json defaults = allFields(R{}, path);
+  for (const auto& [key, value] : defaults.items())
+    if (out.contains(key) && out[key].dump() == value.dump()) out.erase(key);
+  fileRules(out, r, path);
+  return out;
+}
+
 // Writers for each part of the format, in the reader's order and with its field names.
 class Writer {
  public:
@@ -197,13 +278,12 @@ class Writer {
     root["duration"] = number(scene_.duration, "duration");
     putIfChanged(root, "threads", s.threads, WorldSettings{}.threads);
     putSection(root, "solver", solver(s.solver));
-    if (s.integrator.tolerance != IntegratorSettings{}.tolerance) {
-      root["integrator"] =
-          json{{"type", std::string(integratorTypeName(s.integrator.type))},
-               {"tolerance", number(s.integrator.tolerance, "integrator.tolerance")}};
-    } else if (s.integrator.type != IntegratorSettings{}.type) {
-      root["integrator"] = std::string(integratorTypeName(s.integrator.type));
-    }
+    // The type alone as a string, as files mostly give it.
+    const json integrator = record(s.integrator, "integrator");
+    if (integrator.size() == 1 && integrator.contains("type"))
+      root["integrator"] = integrator["type"];
+    else
+      putSection(root, "integrator", integrator);
     putSection(root, "contact", contact(s.contact));
     putSection(root, "sleep", sleep(s.sleep));
     putSection(root, "faults", faults(s.faults));
@@ -232,91 +312,11 @@ class Writer {
  private:
   // --- Settings --------------------------------------------------------------------------------
 
-  static json solver(const SolverSettings& s) {
-    const SolverSettings d;
-    const std::string path = "solver";
-    json j = json::object();
-    if (s.type != d.type) j["type"] = std::string(solverTypeName(s.type));
-    putIfChanged(j, "iterations", s.iterations, d.iterations);
-    putIfChanged(j, "tolerance", s.tolerance, d.tolerance, path);
-    putIfChanged(j, "erp", s.erp, d.erp, path);
-    putIfChanged(j, "cfm", s.cfm, d.cfm, path);
-    putIfChanged(j, "warm_start", s.warm_start, d.warm_start);
-    putIfChanged(j, "sor", s.sor, d.sor, path);
-    putIfChanged(j, "substeps", s.substeps, d.substeps);
-    putIfChanged(j, "post_stabilization", s.post_stabilization, d.post_stabilization);
-    putIfChanged(j, "projection", s.projection, d.projection);
-    putIfChanged(j, "projection_iterations", s.projection_iterations, d.projection_iterations);
-    putIfChanged(j, "projection_tolerance", s.projection_tolerance, d.projection_tolerance, path);
-    putIfChanged(j, "geometric_stiffness", s.geometric_stiffness, d.geometric_stiffness);
-    return j;
-  }
-
-  // Either erp and cfm, or stiffness and damping: a file holds one pair or the other.
-  static json contact(const ContactSettings& c) {
-    const ContactSettings d;
-    const std::string path = "contact";
-    json j = json::object();
-    putIfChanged(j, "enabled", c.enabled, d.enabled);
-    putIfChanged(j, "margin", c.margin, d.margin, path);
-    putIfChanged(j, "slop", c.slop, d.slop, path);
-    if (c.stiffness.has_value() != c.damping.has_value())
-      fail(childPath(path, c.stiffness ? "damping" : "stiffness"),
-           "stiffness and damping go together");
-    if (c.stiffness) {
-      for (const auto& [key, value, fallback] :
-           {std::tuple{"erp", c.erp, d.erp}, std::tuple{"cfm", c.cfm, d.cfm}})
-        if (!same(value, fallback))
-          fail(childPath(path, key), "a file gives either erp and cfm, or stiffness and damping");
-      j["stiffness"] = number(*c.stiffness, childPath(path, "stiffness"));
-      j["damping"] = number(*c.damping, childPath(path, "damping"));
-    } else {
-      putIfChanged(j, "erp", c.erp, d.erp, path);
-      putIfChanged(j, "cfm", c.cfm, d.cfm, path);
-    }
-    putIfChanged(j, "restitution_threshold", c.restitution_threshold, d.restitution_threshold,
-                 path);
-    putIfChanged(j, "max_push_out", c.max_push_out, d.max_push_out, path);
-    putIfChanged(j, "hertz", c.hertz, d.hertz, path);
-    putIfChanged(j, "damping_ratio", c.damping_ratio, d.damping_ratio, path);
-    return j;
-  }
-
-  static json sleep(const SleepSettings& s) {
-    const SleepSettings d;
-    const std::string path = "sleep";
-    json j = json::object();
-    putIfChanged(j, "enabled", s.enabled, d.enabled);
-    putIfChanged(j, "linear_velocity", s.linear_velocity, d.linear_velocity, path);
-    putIfChanged(j, "angular_velocity", s.angular_velocity, d.angular_velocity, path);
-    putIfChanged(j, "time", s.time, d.time, path);
-    return j;
-  }
-
-  static json faults(const FaultSettings& s) {
-    const FaultSettings d;
-    const std::string path = "faults";
-    json j = json::object();
-    putIfChanged(j, "energy", s.energy, d.energy);
-    putIfChanged(j, "kinetic_fraction", s.kinetic_fraction, d.kinetic_fraction, path);
-    putIfChanged(j, "height", s.height, d.height, path);
-    putIfChanged(j, "speed", s.speed, d.speed, path);
-    putIfChanged(j, "max_speed", s.max_speed, d.max_speed, path);
-    putIfChanged(j, "max_angular_speed", s.max_angular_speed, d.max_angular_speed, path);
-    putIfChanged(j, "max_joint_error", s.max_joint_error, d.max_joint_error, path);
-    putIfChanged(j, "joint_error_every", s.joint_error_every, d.joint_error_every);
-    return j;
-  }
-
-  static json view(const SceneView& v) {
-    const std::string path = "view";
-    json j = json::object();
-    if (v.eye) j["eye"] = vec3(*v.eye, childPath(path, "eye"));
-    if (v.target) j["target"] = vec3(*v.target, childPath(path, "target"));
-    if (v.up) j["up"] = direction(*v.up, childPath(path, "up"));
-    putIfChanged(j, "fov", v.fov, SceneView{}.fov, path);
-    return j;
-  }
+  static json solver(const SolverSettings& s) { return record(s, "solver"); }
+  static json contact(const ContactSettings& c) { return record(c, "contact"); }
+  static json sleep(const SleepSettings& s) { return record(s, "sleep"); }
+  static json faults(const FaultSettings& s) { return record(s, "faults"); }
+  static json view(const SceneView& v) { return record(v, "view"); }
 
   // --- Bodies ----------------------------------------------------------------------------------
 
@@ -521,53 +521,7 @@ class Writer {
 
   // What acts on a free coordinate: the fields the reader's coordinate() takes.
   static json coordinate(const CoordinateDef& c, const std::string& path) {
-    const CoordinateDef d;
-    json j = json::object();
-    if (c.limits) j["limits"] = limits(*c.limits, childPath(path, "limits"));
-    if (c.motor) j["motor"] = motor(*c.motor, childPath(path, "motor"));
-    if (c.spring) j["spring"] = spring(*c.spring, childPath(path, "spring"));
-    putIfChanged(j, "friction", c.friction, d.friction, path);
-    putIfChanged(j, "locked", c.locked, d.locked);
-    if (c.prescribed) j["prescribed"] = signal(*c.prescribed, childPath(path, "prescribed"));
-    putIfChanged(j, "armature", c.armature, d.armature, path);
-    if (c.force) j["force"] = signal(*c.force, childPath(path, "force"));
-    putIfChanged(j, "reference", c.reference, d.reference, path);
-    if (c.initial) j["initial"] = number(*c.initial, childPath(path, "initial"));
-    return j;
-  }
-
-  // An infinite bound is left out (the reader's default).
-  static json limits(const JointLimits& l, const std::string& path) {
-    json j = json::object();
-    if (l.lower == kInfinity) fail(childPath(path, "lower"), "must not be +infinity");
-    if (l.upper == -kInfinity) fail(childPath(path, "upper"), "must not be -infinity");
-    if (l.lower != -kInfinity) j["lower"] = number(l.lower, childPath(path, "lower"));
-    if (l.upper != kInfinity) j["upper"] = number(l.upper, childPath(path, "upper"));
-    return j;
-  }
-
-  static json motor(const JointMotor& m, const std::string& path) {
-    const JointMotor d;
-    json j = json::object();
-    if (!isZeroSignal(m.target_velocity))
-      j["target_velocity"] = signal(m.target_velocity, childPath(path, "target_velocity"));
-    if (m.target_position)
-      j["target_position"] = signal(*m.target_position, childPath(path, "target_position"));
-    putIfChanged(j, "stiffness", m.stiffness, d.stiffness, path);
-    putIfChanged(j, "damping", m.damping, d.damping, path);
-    // A scene file's rigid velocity motor states its bound; a servo's may be unbounded.
-    if (m.max_force != kInfinity)
-      j["max_force"] = number(m.max_force, childPath(path, "max_force"));
-    else if (!m.isServo())
-      fail(childPath(path, "max_force"),
-           "a velocity motor in a scene file needs a finite max_force, this one has none");
-    return j;
-  }
-
-  static json spring(const JointSpring& s, const std::string& path) {
-    return json{{"stiffness", number(s.stiffness, childPath(path, "stiffness"))},
-                {"damping", number(s.damping, childPath(path, "damping"))},
-                {"rest", number(s.rest, childPath(path, "rest"))}};
+    return record(c, path);
   }
 
   // A top-level spring: a spring joint with a spring and nothing else, whose shapes collide.

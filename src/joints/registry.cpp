@@ -16,6 +16,7 @@
 #include "joints/spring_joint.hpp"
 #include "joints/universal_joint.hpp"
 #include "joints/validation.hpp"
+#include "schema/check.hpp"
 
 #include <fmt/format.h>
 
@@ -242,81 +243,22 @@ void validateAxes(const std::vector<SerialAxis>& axes) {
   }
 }
 
+// Each field within its bounds and the coordinate's rules, as the scene format describes them
+// (src/schema/describe.hpp).
 void validateCoordinate(const CoordinateDef& c, const std::string& prefix) {
-  if (c.locked &&
-      (c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0 || c.force))
-    throw std::invalid_argument(
-        prefix +
-        "locked: a locked coordinate takes no limits, motor, spring, friction, armature or force");
-  if (c.prescribed) {
-    if (c.locked || c.limits || c.motor || c.spring || c.friction != 0.0 || c.armature != 0.0 ||
-        c.force)
-      throw std::invalid_argument(
-          prefix +
-          "prescribed: a prescribed coordinate takes no limits, motor, spring, friction, "
-          "armature, force or lock");
-    validateSignal(*c.prescribed, prefix + "prescribed");
-  }
-  if (!std::isfinite(c.reference))
-    throw std::invalid_argument(prefix + "reference: must be finite");
-  if (c.initial && !std::isfinite(*c.initial))
-    throw std::invalid_argument(prefix + "initial: must be finite");
-  if (c.initial && c.locked)
-    throw std::invalid_argument(prefix + "initial: a locked coordinate stays where it was made");
-  if (c.limits && !(c.limits->lower <= c.limits->upper))
-    throw std::invalid_argument(prefix + "limits: lower must not exceed upper");
-  if (!(std::isfinite(c.friction) && c.friction >= 0.0))
-    throw std::invalid_argument(prefix + "friction: must be finite and >= 0");
-  if (!(std::isfinite(c.armature) && c.armature >= 0.0))
-    throw std::invalid_argument(prefix + "armature: must be finite and >= 0");
-  if (c.force) validateSignal(*c.force, prefix + "force");
-  try {
-    if (c.motor) validateMotor(*c.motor);
-    if (c.spring) validateSpring(*c.spring);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(prefix + e.what());
-  }
+  schema::check(c, prefix);
 }
 
 void validateSignal(const Signal& s, std::string_view field) {
-  const auto bad = [&](const std::string& problem) {
-    return std::invalid_argument(fmt::format("{}: {}", field, problem));
-  };
-  if (s.times.empty()) {
-    if (s.values.size() != 1 || !std::isfinite(s.values[0])) throw bad("must be finite");
-    return;
-  }
-  if (s.values.size() != s.times.size())
-    throw bad(fmt::format("{} times but {} values", s.times.size(), s.values.size()));
-  for (std::size_t i = 0; i < s.times.size(); ++i) {
-    if (!std::isfinite(s.times[i])) throw bad(fmt::format("times[{}]: must be finite", i));
-    if (!std::isfinite(s.values[i])) throw bad(fmt::format("values[{}]: must be finite", i));
-    if (i > 0 && !(s.times[i] > s.times[i - 1]))
-      throw bad(fmt::format("times[{}]: must be after times[{}] ({} <= {})", i, i - 1, s.times[i],
-                            s.times[i - 1]));
-  }
+  schema::checkSignal(s, std::string(field));
 }
 
 void validateMotor(const JointMotor& m) {
-  const auto gain = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  validateSignal(m.target_velocity, "motor.target_velocity");
-  if (!(m.max_force >= 0.0)) throw std::invalid_argument("motor.max_force: must be >= 0");
-  if (!gain(m.stiffness)) throw std::invalid_argument("motor.stiffness: must be finite and >= 0");
-  if (!gain(m.damping)) throw std::invalid_argument("motor.damping: must be finite and >= 0");
-  if (m.target_position) {
-    validateSignal(*m.target_position, "motor.target_position");
-    if (!(m.stiffness > 0.0))
-      throw std::invalid_argument("motor.stiffness: a servo (target_position) needs stiffness > 0");
-  } else if (m.stiffness > 0.0) {
-    throw std::invalid_argument("motor.stiffness: needs a target_position to pull towards");
-  }
+  schema::check(m, "motor.");
 }
 
 void validateSpring(const JointSpring& s) {
-  const auto gain = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  if (!gain(s.stiffness)) throw std::invalid_argument("spring.stiffness: must be finite and >= 0");
-  if (!gain(s.damping)) throw std::invalid_argument("spring.damping: must be finite and >= 0");
-  if (!std::isfinite(s.rest)) throw std::invalid_argument("spring.rest: must be finite");
+  schema::check(s, "spring.");
 }
 
 }  // namespace joints

@@ -10,6 +10,7 @@
 #include "joints/validation.hpp"
 #include "math/rotation.hpp"
 #include "parallel/parallel_for.hpp"
+#include "schema/check.hpp"
 #include "step/assembly.hpp"
 #include "step/check.hpp"
 #include "step/step.hpp"
@@ -322,15 +323,14 @@ void World::step() {
   if (settings_.threads < 0 || settings_.threads > kMaxThreads)
     throw std::invalid_argument(
         fmt::format("threads: must be in [0, {}] (0: one per core)", kMaxThreads));
+  // Each section as a scene file's is checked (src/schema/describe.hpp): a field out of its
+  // bounds is named, "solver.erp: must be between 0 and 1, got 2".
+  schema::check(settings_.solver, "solver.");
+  schema::check(settings_.integrator, "integrator.");
+  schema::check(settings_.contact, "contact.");
+  schema::check(settings_.sleep, "sleep.");
+  schema::check(settings_.faults, "faults.");
   const FaultSettings& faults = settings_.faults;
-  if (!(faults.kinetic_fraction >= 0.0 && faults.height >= 0.0 && faults.speed >= 0.0) ||
-      !std::isfinite(faults.kinetic_fraction + faults.height + faults.speed))
-    throw std::invalid_argument("faults: kinetic_fraction, height and speed must be finite, >= 0");
-  if (!(faults.max_speed > 0 && faults.max_angular_speed > 0 && faults.max_joint_error > 0) ||
-      faults.joint_error_every < 1)
-    throw std::invalid_argument(
-        "faults: max_speed, max_angular_speed and max_joint_error must be > 0, joint_error_every "
-        ">= 1");
   // The soft step substeps within one pass; the others pass `substeps` times.
   const int substeps =
       settings_.solver.type == SolverType::Soft ? 1 : std::max(1, settings_.solver.substeps);
