@@ -73,7 +73,7 @@ TEST(JointTypes, CoordinateRowsAreTheRatesOfTheCoordinates) {
       JointDef def{.name = "j", .anchor = test::randomVec(rng, 1.0)};
       def.axis = test::randomVec(rng, 1.0);
       def.axis2 = def.axis.unitOrthogonal();
-      if (type.uses_axes)  // a serial joint: a hinge, a slide and a hinge, anywhere
+      if (type.usesAxes())  // a serial joint: a hinge, a slide and a hinge, anywhere
         def.axes = {{false, test::randomVec(rng, 1.0), test::randomVec(rng, 1.0)},
                     {true, test::randomVec(rng, 1.0), Vec3::Zero()},
                     {false, test::randomVec(rng, 1.0), test::randomVec(rng, 1.0)}};

@@ -911,8 +911,14 @@ TEST(SceneError, Joints) {
        "unknown joint type 'cardan' (expected fixed, slider, hinge, ball, universal, cylindrical, "
        "hinge2, distance, cone_twist, planar, gear, generic, spring, rack_and_pinion, serial or "
        "mimic)"},
-      {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis1",
-       "missing required field"},
+      // The hinge's axis is the first problem in the file: a universal joint takes axis1 and axis2.
+      {[](json& s) { s["joints"][0]["type"] = "universal"; }, "joints[0].axis",
+       "not used by a universal joint"},
+      {[](json& s) {
+         s["joints"][0]["type"] = "universal";
+         s["joints"][0].erase("axis");
+       },
+       "joints[0].axis1", "missing required field"},
       {[](json& s) {
          s["joints"][0]["locked"] = true;
          s["joints"][0]["armature"] = 0.1;

@@ -3,10 +3,12 @@
 // are refused alike by a scene file and by the C++ API, errors come in the file's order, a
 // misspelt field is pointed to the one meant (other engines' names too), every record survives a
 // write and a read to the bit, and docs/scene-format.md shows the tables the description makes.
+#include <linx/joint.hpp>
 #include <linx/scene.hpp>
 #include <linx/schema.hpp>
 #include <linx/world.hpp>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -207,6 +209,111 @@ TEST(Schema, SettingsSurviveAWriteAndARead) {
   EXPECT_EQ(b.faults.joint_error_every, 3);
   ASSERT_TRUE(back.view && back.view->up);
   EXPECT_EQ(*back.view->up, Vec3(0, 0.6, 0.8).normalized());
+}
+
+// A joint of type `t` between bodies a and b with every field its type takes (after two hinges
+// for a mimic joint to tie), as JSON.
+json jointScene(const JointTypeInfo& t) {
+  json scene = json::parse(R"({
+    "bodies": [{"name": "a", "mass": 1, "inertia": [1, 1, 1], "position": [1, 0, 0]},
+               {"name": "b", "mass": 1, "inertia": [1, 1, 1]}],
+    "joints": [
+      {"name": "h1", "type": "hinge", "body1": "a", "anchor": [0, 0, 0], "axis": [0, 0, 1]},
+      {"name": "h2", "type": "hinge", "body1": "b", "body2": "a", "anchor": [1, 0, 0],
+       "axis": [0, 0, 1]}]
+  })");
+  json j = {{"name", "j"}, {"type", std::string(t.name)}};
+  if (!t.couplesJoints()) {
+    j["body1"] = "a";
+    j["body2"] = "b";
+  }
+  for (const TypeField& f : t.fields) {
+    const std::string key(jointFieldName(f.field));
+    switch (f.field) {
+      case JointField::Anchor:
+        j[key] = {0.5, 0, 0};
+        break;
+      case JointField::Anchor1:
+        j[key] = {1, 0, 0};
+        break;
+      case JointField::Anchor2:
+        j[key] = {0, 0, 0};
+        break;
+      case JointField::Axis:
+        j[key] = {0, 0, 1};
+        break;
+      case JointField::Axis1:
+        j[key] = {1, 0, 0};
+        break;
+      case JointField::Axis2:
+        j[key] = {0, 1, 0};
+        break;
+      case JointField::Length:
+        j[key] = 1.0;
+        break;
+      case JointField::Rope:
+        j[key] = true;
+        break;
+      case JointField::Cone:
+        j[key] = {{"swing1", 0.5}, {"swing2", 0.25}};
+        break;
+      case JointField::Ratio:
+        j[key] = 2.0;
+        break;
+      case JointField::Axes:
+        j[key] = json::parse(R"([{"type": "hinge", "axis": [0, 0, 1], "anchor": [0, 0, 0]}])");
+        break;
+      case JointField::Leader:
+        j[key] = "h1";
+        break;
+      case JointField::Follower:
+        j[key] = "h2";
+        break;
+      case JointField::Offset:
+        j[key] = 0.1;
+        break;
+    }
+  }
+  scene["joints"].push_back(j);
+  return scene;
+}
+
+// Each type's fields as the registry lists them (JointTypeInfo::fields): all of them read, each
+// required one refused when missing, every other type's field refused as not this type's, and
+// the joint written and read back to the same text.
+TEST(Schema, EveryJointTypeTakesItsFieldsAndNoOthers) {
+  for (const JointTypeInfo& t : jointTypes()) {
+    SCOPED_TRACE(std::string(t.name));
+    const json scene = jointScene(t);
+    EXPECT_EQ(errorOf(scene), "accepted");
+    const Scene parsed = parseScene(scene.dump(), "s.json");
+    EXPECT_EQ(writeSceneJson(parseScene(writeSceneJson(parsed), "w.json")), writeSceneJson(parsed));
+    for (const TypeField& f : t.fields) {
+      if (!f.required) continue;
+      json missing = scene;
+      missing["joints"][2].erase(std::string(jointFieldName(f.field)));
+      EXPECT_EQ(errorOf(missing),
+                fmt::format("joints[2].{}: missing required field", jointFieldName(f.field)));
+    }
+    for (int k = 0; k <= static_cast<int>(JointField::Offset); ++k) {
+      const auto field = static_cast<JointField>(k);
+      if (t.uses(field)) continue;
+      json other = scene;
+      other["joints"][2][std::string(jointFieldName(field))] = 1.0;
+      EXPECT_EQ(errorOf(other),
+                fmt::format("joints[2].{}: not used by a {} joint", jointFieldName(field), t.name));
+    }
+  }
+}
+
+// A misspelt joint field is named with the closest of those its type takes.
+TEST(Schema, MisspeltJointFieldsAreNamedWithTheClosest) {
+  json scene = baseScene();
+  scene["joints"][0]["axsi"] = {0, 0, 1};
+  EXPECT_EQ(errorOf(scene), "joints[0].axsi: unknown field (did you mean 'axis'?)");
+  json limits = baseScene();
+  limits["joints"][0]["limit"] = {{"lower", 0}};
+  EXPECT_EQ(errorOf(limits), "joints[0].limit: unknown field (did you mean 'limits'?)");
 }
 
 // docs/scene-format.md shows each record's table as the description makes it, between the

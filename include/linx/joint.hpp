@@ -10,6 +10,7 @@
 #include <linx/types.hpp>
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -307,7 +308,7 @@ class Joint {
 
 /// Creates a joint of a registered type ("fixed", "slider", "hinge", "ball", "universal", ...)
 /// from its definition and the two bodies' states at creation; `coupled`: the joints a type that
-/// couples joints ties (a mimic joint's leader and follower, JointTypeInfo::couples_joints).
+/// couples joints ties (a mimic joint's leader and follower, JointTypeInfo::couplesJoints).
 /// Throws std::invalid_argument for an unknown type or a definition the type cannot accept (a
 /// zero axis, inverted limits, a negative motor force).
 std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, const BodyState& b1,
@@ -324,27 +325,56 @@ struct CoordinateInfo {
   bool limits_only = false;
 };
 
+/// A joint's own fields, beyond the common ones (name, bodies, frame, erp, cfm, collide, breaking)
+/// and its coordinates': each type takes some of them (JointTypeInfo::fields), named in a scene
+/// file as below (docs/scene-format.md, "joints").
+enum class JointField : std::uint8_t {
+  Anchor,    ///< "anchor": JointDef::anchor, the joint's point
+  Anchor1,   ///< "anchor1": JointDef::anchor, body 1's point of a joint between two points
+  Anchor2,   ///< "anchor2": JointDef::anchor2, body 2's point
+  Axis,      ///< "axis": JointDef::axis
+  Axis1,     ///< "axis1": JointDef::axis, the first of a frame's axes or of two axles
+  Axis2,     ///< "axis2": JointDef::axis2; perpendicular to axis1 unless the type has a ratio
+  Length,    ///< "length": JointDef::length
+  Rope,      ///< "rope": JointDef::rope
+  Cone,      ///< "cone": JointDef::cone
+  Ratio,     ///< "ratio": JointDef::ratio
+  Axes,      ///< "axes": JointDef::axes, a serial joint's, each with its coordinate
+  Leader,    ///< "leader": JointDef::leader, a joint that ties two joints
+  Follower,  ///< "follower": JointDef::follower
+  Offset,    ///< "offset": JointDef::offset
+};
+
+/// The scene file's name of a joint field ("anchor", "axis1", ...).
+std::string_view jointFieldName(JointField field);
+
+/// A field a type takes, and whether it must be given.
+struct TypeField {
+  JointField field;
+  bool required = false;
+};
+
 /// What a registered joint type uses of a JointDef.
 struct JointTypeInfo {
   std::string_view name;
-  bool needs_anchor = false;  ///< the anchor shapes the constraint (else any point will do)
-  bool uses_axis = false;     ///< JointDef::axis
-  bool uses_axis2 = false;    ///< JointDef::axis2 as well ("axis1" and "axis2" in a scene)
-  /// JointDef::anchor2 ("anchor1" and "anchor2" in a scene): a joint between two points (distance,
-  /// spring).
-  bool uses_anchor2 = false;
-  bool uses_length = false;  ///< JointDef::length and rope (a distance joint)
-  bool uses_cone = false;    ///< JointDef::cone
-  /// JointDef::ratio; `axis` and `axis2` need not be perpendicular (a gear joint).
-  bool uses_ratio = false;
-  /// JointDef::axes (a serial joint): its free coordinates are one per axis, not `coordinates`'.
-  bool uses_axes = false;
-  /// JointDef::leader, follower and offset (a mimic joint): it ties two joints' coordinates, and
-  /// its bodies are the follower's.
-  bool couples_joints = false;
+  /// Its own fields, in the order scene files and the docs list them.
+  std::span<const TypeField> fields = {};
   /// The coordinates Joint::coordinates reports, in order.
   std::span<const CoordinateInfo> coordinates = {};
-  /// How many of them are free (take limits, drives, springs, friction): the first ones.
+
+  /// Whether the type takes `field`, and whether it needs it.
+  bool uses(JointField field) const;
+  bool needs(JointField field) const;
+  /// JointDef::axis (as "axis" or "axis1") and JointDef::axis2.
+  bool usesAxis() const { return uses(JointField::Axis) || uses(JointField::Axis1); }
+  bool usesAxis2() const { return uses(JointField::Axis2); }
+  /// A joint between two points (distance, spring): JointDef::anchor and anchor2.
+  bool usesAnchor2() const { return uses(JointField::Anchor2); }
+  /// JointDef::axes (a serial joint): its free coordinates are one per axis.
+  bool usesAxes() const { return uses(JointField::Axes); }
+  /// It ties two joints' coordinates (a mimic joint), its bodies the follower's.
+  bool couplesJoints() const { return uses(JointField::Leader); }
+  /// How many of its coordinates are free (take limits, drives, springs, friction): the first.
   int freeCoordinates() const;
   /// The same for a joint of this type defined by `def` (a serial joint's: one per axis).
   int freeCoordinates(const JointDef& def) const;

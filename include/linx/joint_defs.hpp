@@ -17,226 +17,165 @@
 
 namespace linx {
 
-// The fields every type has, in this order (JointDef's meaning):
-//   name, body1, body2, local, then the type's own fields, then
-//   break_force, break_torque, erp, cfm, collide.
+// The fields every type has (JointDef's meaning), written once: first name, body1, body2, local,
+// then the type's own fields, then break_force, break_torque, erp, cfm, collide (a mimic joint
+// has no bodies: its are the follower's).
+#define LINX_JOINT_HEAD      \
+  std::string name;          \
+  BodyId body1 = kWorldBody; \
+  BodyId body2 = kWorldBody; \
+  bool local = false;
+#define LINX_JOINT_TAIL                                                          \
+  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt; \
+  std::optional<double> erp = std::nullopt, cfm = std::nullopt;                  \
+  bool collide = false;
 
 /// Glues body1 to body2 (or the world) as they are at creation.
 struct FixedDef {
   static constexpr std::string_view kType = "fixed";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< where the reaction torque is taken
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Translation along `axis` only.
 struct SliderDef {
   static constexpr std::string_view kType = "slider";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   Vec3 axis = Vec3::UnitZ();
   CoordinateDef position = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Rotation about `axis` through `anchor` only.
 struct HingeDef {
   static constexpr std::string_view kType = "hinge";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required
   Vec3 axis = Vec3::UnitZ();
   CoordinateDef angle = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Rotation about `anchor` only; `angle`, the angle of the relative rotation, takes an upper
 /// limit (in [0, pi)), which keeps the rotation within a cone about its start.
 struct BallDef {
   static constexpr std::string_view kType = "ball";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required
   CoordinateDef angle = {};                   ///< limits only
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// A Cardan cross at `anchor`: `axis1` turns with body 1, `axis2` with body 2.
 struct UniversalDef {
   static constexpr std::string_view kType = "universal";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required
   Vec3 axis1 = Vec3::UnitZ();
   Vec3 axis2 = Vec3::UnitY();  ///< perpendicular to axis1 at creation
   CoordinateDef angle1 = {}, angle2 = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Translation along and rotation about `axis` through `anchor` (a piston).
 struct CylindricalDef {
   static constexpr std::string_view kType = "cylindrical";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required
   Vec3 axis = Vec3::UnitZ();
   CoordinateDef position = {}, angle = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// A car's wheel (body 1) on its chassis (body 2): spinning about the axle `axis1`, steering about
 /// and sprung along `axis2`.
 struct Hinge2Def {
   static constexpr std::string_view kType = "hinge2";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required: the wheel's centre
   Vec3 axis1 = Vec3::UnitY();                 ///< the axle
   Vec3 axis2 = Vec3::UnitZ();                 ///< steering and suspension
   CoordinateDef wheel = {}, steering = {}, suspension = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// A massless rod (or a rope) between `anchor1` on body 1 and `anchor2` on body 2.
 struct DistanceDef {
   static constexpr std::string_view kType = "distance";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor1 = std::nullopt;   ///< default body 1's centre
   std::optional<Vec3> anchor2 = std::nullopt;   ///< default body 2's centre; required for the world
   std::optional<double> length = std::nullopt;  ///< default the points' distance at creation
   bool rope = false;
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// A ball joint whose twist axis `axis1` swings within an elliptical `cone`.
 struct ConeTwistDef {
   static constexpr std::string_view kType = "cone_twist";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required
   Vec3 axis1 = Vec3::UnitZ();                 ///< the twist axis
   Vec3 axis2 = Vec3::UnitY();                 ///< perpendicular: the direction of swing1
   std::optional<ConeLimit> cone = std::nullopt;
   CoordinateDef twist = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Motion in the plane of `axis1` and `axis2` through `anchor`.
 struct PlanarDef {
   static constexpr std::string_view kType = "planar";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required
   Vec3 axis1 = Vec3::UnitX();
   Vec3 axis2 = Vec3::UnitY();  ///< perpendicular to axis1
   CoordinateDef x = {}, y = {}, angle = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Body 2 turning about `axis2` at `ratio` times body 1's rate about `axis1`.
 struct GearDef {
   static constexpr std::string_view kType = "gear";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   Vec3 axis1 = Vec3::UnitZ();
   Vec3 axis2 = Vec3::UnitZ();
   double ratio = 1.0;  ///< non-zero; its sign is the sense
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Six axes, each locked, free, limited, driven or sprung: x, y, z along the joint's frame (axis1,
 /// axis2, axis1 x axis2), rx, ry, rz its Cardan angles.
 struct GenericDef {
   static constexpr std::string_view kType = "generic";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor = std::nullopt;  ///< required
   Vec3 axis1 = Vec3::UnitX();
   Vec3 axis2 = Vec3::UnitY();
   CoordinateDef x = {}, y = {}, z = {}, rx = {}, ry = {}, rz = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Nothing held: the distance between `anchor1` and `anchor2` is a coordinate for what acts on it
 /// (a spring, a linear actuator, a strut with stops).
 struct SpringDef {
   static constexpr std::string_view kType = "spring";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::optional<Vec3> anchor1 = std::nullopt;
   std::optional<Vec3> anchor2 = std::nullopt;
   CoordinateDef length = {};  ///< limits are the shortest and longest lengths, spring.rest one
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Body 2 (the rack) travelling along `axis2` by `ratio` (m/rad) times body 1's (the pinion's)
 /// turn about `axis1`.
 struct RackAndPinionDef {
   static constexpr std::string_view kType = "rack_and_pinion";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   Vec3 axis1 = Vec3::UnitZ();
   Vec3 axis2 = Vec3::UnitX();
   double ratio = 1.0;  ///< the pitch radius (m/rad), non-zero
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// One hinge or slide of a SerialDef with what acts on its coordinate.
@@ -250,14 +189,9 @@ struct SerialAxisDef {
 /// Hinges and slides in series (1 to 6), from body 2 to body 1 (JointDef::axes).
 struct SerialDef {
   static constexpr std::string_view kType = "serial";
-  std::string name;
-  BodyId body1 = kWorldBody;
-  BodyId body2 = kWorldBody;
-  bool local = false;
+  LINX_JOINT_HEAD
   std::vector<SerialAxisDef> axes = {};
-  std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
-  std::optional<double> erp = std::nullopt, cfm = std::nullopt;
-  bool collide = false;
+  LINX_JOINT_TAIL
 };
 
 /// Ties two joints (hinges or sliders): the follower's coordinate is held at ratio times the
@@ -272,6 +206,9 @@ struct MimicDef {
   std::optional<double> break_force = std::nullopt, break_torque = std::nullopt;
   std::optional<double> erp = std::nullopt, cfm = std::nullopt;
 };
+
+#undef LINX_JOINT_HEAD
+#undef LINX_JOINT_TAIL
 
 /// The JointDef each typed definition stands for (createJoint(T::kType, toJointDef(def)) makes
 /// the joint).

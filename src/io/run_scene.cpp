@@ -137,15 +137,15 @@ std::string runSceneJson(const Scene& scene, const World& world, int every) {
     const JointTypeInfo* info = findJointType(joint.type());
     // A distance or spring joint joins two points; the others meet at one.
     const Vec3 anchor2 =
-        info && info->uses_anchor2
+        info && info->usesAnchor2()
             ? def.anchor2.value_or(def.body2.isWorld() ? anchor : world.body(def.body2).position())
             : anchor;
     j["anchor1"] = vec(localPoint(world, def.body1, anchor));
     j["anchor2"] = vec(localPoint(world, def.body2, anchor2));
-    if (info && info->uses_axis) {
+    if (info && info->usesAxis()) {
       // A universal joint's two arms; otherwise one axis seen from both bodies.
       const Vec3 axis = def.axis.normalized();
-      const Vec3 axis2 = info->uses_axis2 ? def.axis2.normalized() : axis;
+      const Vec3 axis2 = info->usesAxis2() ? def.axis2.normalized() : axis;
       j["axis1"] = vec(localDirection(world, def.body1, axis));
       j["axis2"] = vec(localDirection(world, def.body2, axis2));
     }

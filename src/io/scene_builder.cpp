@@ -63,7 +63,7 @@ constexpr double kStartError = 0.1;
 std::string coordinateField(const SceneJoint& joint, std::size_t c) {
   const JointTypeInfo* type = findJointType(joint.type);
   if (!type || type->freeCoordinates(joint.def) <= 1) return "";
-  if (type->uses_axes) return fmt::format("axes[{}].", c);
+  if (type->usesAxes()) return fmt::format("axes[{}].", c);
   return c < type->coordinates.size() ? fmt::format("{}.", type->coordinates[c].name) : "";
 }
 

@@ -887,9 +887,9 @@ class Reader {
 
     const Node type = require(n, "type");
     joint.type = string(type);
-    // What each type takes comes from the joint registry (JointTypeInfo).
-    const JointTypeInfo* fields = findJointType(joint.type);
-    if (!fields) {
+    // What each type takes comes from the joint registry (JointTypeInfo::fields).
+    const JointTypeInfo* t = findJointType(joint.type);
+    if (!t) {
       std::string names;
       const auto types = jointTypes();
       for (std::size_t i = 0; i < types.size(); ++i)
@@ -900,35 +900,17 @@ class Reader {
                              types[i].name);
       fail(type.path, fmt::format("unknown joint type '{}' (expected {})", joint.type, names));
     }
-    // A joint with one free coordinate takes its limits, motor, spring and friction as its own
-    // fields; one with several, in an object per coordinate named as the type names it.
-    // A serial joint takes them in each of its axes.
-    const int free = fields->uses_axes ? 0 : fields->freeCoordinates();
-    std::vector<std::string_view> allowed{
-        "name",         "type",   "body1", "body2",  "anchor",   "axis",
-        "axis1",        "axis2",  "erp",   "cfm",    "collide",  "anchor1",
-        "anchor2",      "length", "rope",  "cone",   "ratio",    "break_force",
-        "break_torque", "axes",   "frame", "leader", "follower", "offset"};
-    allowed.insert(allowed.end(), kCoordinateFields.begin(), kCoordinateFields.end());
-    for (int i = 0; free > 1 && i < free; ++i)
-      allowed.push_back(fields->coordinates[static_cast<std::size_t>(i)].name);
-    allowOnly(n, allowed);
-    const auto unused = [&](std::string_view key) {
-      if (n.value.contains(key)) {
-        fail(childPath(n.path, key), fmt::format("not used by a {} joint", joint.type));
-      }
-    };
+    jointKeys(n, *t);
 
-    if (fields->couples_joints) {
+    if (t->couplesJoints()) {
       coupledJoints(n, joint.type, earlier, d);
-      if (auto v = get(n, "ratio")) d.ratio = number(*v);  // 1 by default, as URDF's multiplier
-      for (std::string_view key : allowed)
-        if (key != "name" && key != "type" && key != "leader" && key != "follower" &&
-            key != "ratio" && key != "offset")
-          unused(key);
+      if (auto v = get(n, "ratio")) d.ratio = nonZero(*v);  // 1 by default, as URDF's multiplier
+      if (auto v = get(n, "erp")) d.erp = unitInterval(*v);
+      if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
+      if (auto v = get(n, "break_force")) d.break_force = positive(*v);
+      if (auto v = get(n, "break_torque")) d.break_torque = positive(*v);
       return joint;
     }
-    for (std::string_view key : {"leader", "follower", "offset"}) unused(key);
     const Node body1 = require(n, "body1");
     d.body1 = bodyRef(body1, body_index, true);
     if (d.body1.isWorld()) {
@@ -938,7 +920,6 @@ class Reader {
       d.body2 = bodyRef(*v, body_index, true);
       if (d.body2 == d.body1) fail(v->path, "a joint needs two different bodies");
     }
-
     if (auto v = get(n, "frame")) {
       const std::string frame = string(*v);
       if (frame != "world" && frame != "local")
@@ -947,88 +928,10 @@ class Reader {
                                   frame));
       d.local = frame == "local";
     }
-
-    if (fields->uses_anchor2) {
-      twoPoints(n, bodies, d);
-      unused("anchor");
-      if (fields->uses_length) {
-        if (auto v = get(n, "length")) d.length = positive(*v);
-        if (auto v = get(n, "rope")) d.rope = boolean(*v);
-      } else {
-        unused("length");
-        unused("rope");
-      }
-    } else {
-      if (fields->needs_anchor) {
-        d.anchor = vec3(require(n, "anchor"));
-      } else if (auto v = get(n, "anchor")) {
-        d.anchor = vec3(*v);
-      } else {  // body 1's position
-        d.anchor =
-            d.local ? Vec3::Zero() : bodies[static_cast<std::size_t>(d.body1.index)].position;
-      }
-      for (std::string_view key : {"anchor1", "anchor2", "length", "rope"}) unused(key);
-    }
-
-    if (fields->uses_axis2) {
-      d.axis = direction(require(n, "axis1"));
-      const Node axis2 = require(n, "axis2");
-      d.axis2 = direction(axis2);
-      const double cosine = d.axis.normalized().dot(d.axis2.normalized());
-      // In local frames they are in two bodies' frames: the world checks them when it makes it.
-      if (!fields->uses_ratio && !d.local && std::abs(cosine) > 1e-6)
-        fail(axis2.path, fmt::format("must be perpendicular to axis1 (they are {:.6g} deg apart)",
-                                     std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI));
-      unused("axis");
-    } else {
-      if (fields->uses_axis) {
-        d.axis = direction(require(n, "axis"));
-      } else {
-        unused("axis");
-      }
-      unused("axis1");
-      unused("axis2");
-    }
-
-    if (!fields->uses_ratio) {
-      unused("ratio");
-    } else {
-      const Node ratio = require(n, "ratio");
-      d.ratio = number(ratio);
-      if (d.ratio == 0.0) fail(ratio.path, "must not be zero");
-    }
-    if (!fields->uses_cone) {
-      unused("cone");
-    } else if (auto v = get(n, "cone")) {
-      allowOnly(*v, {"swing1", "swing2"});
-      d.cone = ConeLimit{angleBelowPi(require(*v, "swing1")), angleBelowPi(require(*v, "swing2"))};
-    }
-    if (fields->uses_axes) {
-      serialAxes(require(n, "axes"), d);
-    } else {
-      unused("axes");
-    }
-    if (free == 1 && fields->coordinates[0].limits_only) {  // a ball joint's angle
-      for (std::string_view key : kCoordinateFields)
-        if (key != "limits") unused(key);
-      if (auto v = get(n, "limits")) d.coordinates[0].limits = limits(*v);
-    } else if (free == 1) {
-      d.coordinates[0] = coordinate(n);
-    } else if (free > 1) {
-      for (int i = 0; i < free; ++i) {
-        const auto v = get(n, fields->coordinates[static_cast<std::size_t>(i)].name);
-        if (v) {
-          d.coordinates[static_cast<std::size_t>(i)] = record<CoordinateDef>(*v);
-        }
-      }
-      for (std::string_view key : kCoordinateFields)
-        if (n.value.contains(key))
-          fail(childPath(n.path, key),
-               fmt::format("a {} joint has {} coordinates: give it in one of them ({}.{})",
-                           joint.type, free, fields->coordinates[0].name, key));
-    } else {
-      for (std::string_view key : kCoordinateFields) unused(key);
-    }
+    // The type's own fields, as it lists them.
+    if (t->usesAnchor2()) twoPoints(n, bodies, d);
+    for (const TypeField& f : t->fields) jointField(n, f, *t, bodies, d);
+    coordinates(n, *t, d);
     if (auto v = get(n, "erp")) d.erp = unitInterval(*v);
     if (auto v = get(n, "cfm")) d.cfm = nonNegative(*v);
     if (auto v = get(n, "collide")) d.collide = boolean(*v);
@@ -1036,6 +939,115 @@ class Reader {
     if (auto v = get(n, "break_torque")) d.break_torque = positive(*v);
     if (d.local) inCentreFrames(d, centres);
     return joint;
+  }
+
+  // A joint's keys in the file's order: each one of the common fields, one of its type's, or what
+  // acts on its coordinates; another type's field is named as such, anything else is unknown.
+  void jointKeys(const Node& n, const JointTypeInfo& t) const {
+    const int free = t.usesAxes() ? 0 : t.freeCoordinates();
+    const bool limits_only = free == 1 && t.coordinates[0].limits_only;  // a ball joint's angle
+    std::vector<std::string_view> allowed{"name", "type",        "erp",
+                                          "cfm",  "break_force", "break_torque"};
+    if (!t.couplesJoints()) allowed.insert(allowed.end(), {"body1", "body2", "frame", "collide"});
+    for (const TypeField& f : t.fields) allowed.push_back(jointFieldName(f.field));
+    if (limits_only)
+      allowed.push_back("limits");
+    else if (free == 1)
+      allowed.insert(allowed.end(), kCoordinateFields.begin(), kCoordinateFields.end());
+    for (int i = 0; free > 1 && i < free; ++i)
+      allowed.push_back(t.coordinates[static_cast<std::size_t>(i)].name);
+    const auto isJointField = [](std::string_view key) {
+      for (int f = 0; f <= static_cast<int>(JointField::Offset); ++f)
+        if (jointFieldName(static_cast<JointField>(f)) == key) return true;
+      return key == "body1" || key == "body2" || key == "frame" || key == "collide";
+    };
+    for (const auto& [key, value] : n.value.items()) {
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      const std::string path = childPath(n.path, key);
+      const bool acts_on_coordinate = std::find(kCoordinateFields.begin(), kCoordinateFields.end(),
+                                                key) != kCoordinateFields.end();
+      if (acts_on_coordinate && free > 1)
+        fail(path, fmt::format("a {} joint has {} coordinates: give it in one of them ({}.{})",
+                               t.name, free, t.coordinates[0].name, key));
+      if (acts_on_coordinate || isJointField(key))
+        fail(path, fmt::format("not used by a {} joint", t.name));
+      fail(path, "unknown field" + suggestion(key, allowed));
+    }
+  }
+
+  // One of a type's own fields (JointTypeInfo::fields) into the definition; the two points of a
+  // joint between points are read together (twoPoints), a tie's joints by coupledJoints.
+  void jointField(const Node& n, const TypeField& f, const JointTypeInfo& t,
+                  const std::vector<BodyDef>& bodies, JointDef& d) const {
+    const std::string_view key = jointFieldName(f.field);
+    const auto v = f.required ? std::optional<Node>(require(n, key)) : get(n, key);
+    switch (f.field) {
+      case JointField::Anchor:
+        // Default: body 1's position (its own frame's origin in local frames).
+        d.anchor = v         ? vec3(*v)
+                   : d.local ? Vec3::Zero()
+                             : bodies[static_cast<std::size_t>(d.body1.index)].position;
+        break;
+      case JointField::Axis:
+      case JointField::Axis1:
+        d.axis = direction(*v);
+        break;
+      case JointField::Axis2: {
+        d.axis2 = direction(*v);
+        const double cosine = d.axis.normalized().dot(d.axis2.normalized());
+        // In local frames they are in two bodies' frames: the world checks them when it makes it.
+        if (!t.uses(JointField::Ratio) && !d.local && std::abs(cosine) > 1e-6)
+          fail(v->path, fmt::format("must be perpendicular to axis1 (they are {:.6g} deg apart)",
+                                    std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI));
+        break;
+      }
+      case JointField::Length:
+        if (v) d.length = positive(*v);
+        break;
+      case JointField::Rope:
+        if (v) d.rope = boolean(*v);
+        break;
+      case JointField::Cone:
+        if (v) {
+          allowOnly(*v, {"swing1", "swing2"});
+          d.cone =
+              ConeLimit{angleBelowPi(require(*v, "swing1")), angleBelowPi(require(*v, "swing2"))};
+        }
+        break;
+      case JointField::Ratio:
+        d.ratio = nonZero(*v);
+        break;
+      case JointField::Axes:
+        serialAxes(*v, d);
+        break;
+      case JointField::Anchor1:  // twoPoints
+      case JointField::Anchor2:
+      case JointField::Leader:  // coupledJoints
+      case JointField::Follower:
+      case JointField::Offset:
+        break;
+    }
+  }
+
+  double nonZero(const Node& n) const {
+    const double x = number(n);
+    if (x == 0.0) fail(n.path, "must not be zero");
+    return x;
+  }
+
+  // What acts on a joint's free coordinates: its own fields with one, an object per coordinate
+  // named as the type names it with several, a serial joint's in each axis (serialAxes).
+  void coordinates(const Node& n, const JointTypeInfo& t, JointDef& d) const {
+    const int free = t.usesAxes() ? 0 : t.freeCoordinates();
+    if (free == 1 && t.coordinates[0].limits_only) {  // a ball joint's angle
+      if (auto v = get(n, "limits")) d.coordinates[0].limits = limits(*v);
+    } else if (free == 1) {
+      d.coordinates[0] = coordinate(n);
+    } else {
+      for (int i = 0; i < free; ++i)
+        if (const auto v = get(n, t.coordinates[static_cast<std::size_t>(i)].name))
+          d.coordinates[static_cast<std::size_t>(i)] = record<CoordinateDef>(*v);
+    }
   }
 
   // A mimic joint's leader and follower, by name among the joints before it (the world makes

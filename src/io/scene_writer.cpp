@@ -439,48 +439,71 @@ class Writer {
     json j;
     j["name"] = d.name;
     j["type"] = joint.type;
-    if (info->couples_joints) {  // between the follower's bodies
-      j["leader"] = jointName(d.leader, childPath(path, "leader"));
-      j["follower"] = jointName(d.follower, childPath(path, "follower"));
-      j["ratio"] = number(d.ratio, childPath(path, "ratio"));
-      putIfChanged(j, "offset", d.offset, 0.0, path);
-      return j;
+    if (!info->couplesJoints()) {  // a tie's bodies are the follower's
+      j["body1"] = bodyName(d.body1, childPath(path, "body1"));
+      if (!d.body2.isWorld()) j["body2"] = bodyName(d.body2, childPath(path, "body2"));
+      if (d.local) j["frame"] = "local";
     }
-    j["body1"] = bodyName(d.body1, childPath(path, "body1"));
-    if (!d.body2.isWorld()) j["body2"] = bodyName(d.body2, childPath(path, "body2"));
-    if (d.local) j["frame"] = "local";
-    // A default point is the body's position: the origin of its own frame.
-    const auto centre = [&](BodyId id) { return d.local ? Vec3::Zero() : centreAtCreation(id); };
-    if (info->uses_anchor2) {
-      j["anchor1"] = vec3(d.anchor.value_or(centre(d.body1)), childPath(path, "anchor1"));
-      j["anchor2"] = vec3(d.anchor2.value_or(centre(d.body2)), childPath(path, "anchor2"));
-      if (info->uses_length) {
-        if (d.length) j["length"] = number(*d.length, childPath(path, "length"));
-        if (d.rope) j["rope"] = true;
-      }
-    } else {
-      j["anchor"] = vec3(d.anchor.value_or(centre(d.body1)), childPath(path, "anchor"));
-    }
-    if (info->uses_axis2) {
-      j["axis1"] = direction(d.axis, childPath(path, "axis1"));
-      j["axis2"] = direction(d.axis2, childPath(path, "axis2"));
-    } else if (info->uses_axis) {
-      j["axis"] = direction(d.axis, childPath(path, "axis"));
-    }
-    if (info->uses_ratio) j["ratio"] = number(d.ratio, childPath(path, "ratio"));
-    if (info->uses_cone && d.cone) {
-      const std::string cone = childPath(path, "cone");
-      j["cone"] = json{{"swing1", number(d.cone->swing1, childPath(cone, "swing1"))},
-                       {"swing2", number(d.cone->swing2, childPath(cone, "swing2"))}};
-    }
+    for (const TypeField& f : info->fields) jointField(j, f.field, d, path);
     coordinates(j, *info, d, path);
     if (d.erp) j["erp"] = number(*d.erp, childPath(path, "erp"));
     if (d.cfm) j["cfm"] = number(*d.cfm, childPath(path, "cfm"));
-    putIfChanged(j, "collide", d.collide, JointDef{}.collide);
+    if (!info->couplesJoints()) putIfChanged(j, "collide", d.collide, JointDef{}.collide);
     if (d.break_force) j["break_force"] = number(*d.break_force, childPath(path, "break_force"));
     if (d.break_torque)
       j["break_torque"] = number(*d.break_torque, childPath(path, "break_torque"));
     return j;
+  }
+
+  // One of the type's own fields (JointTypeInfo::fields), as the reader reads it back.
+  void jointField(json& j, JointField field, const JointDef& d, const std::string& path) const {
+    const std::string key(jointFieldName(field));
+    const std::string at = childPath(path, key);
+    // A default point is the body's position: the origin of its own frame.
+    const auto centre = [&](BodyId id) { return d.local ? Vec3::Zero() : centreAtCreation(id); };
+    switch (field) {
+      case JointField::Anchor:
+        j[key] = vec3(d.anchor.value_or(centre(d.body1)), at);
+        break;
+      case JointField::Anchor1:
+        j[key] = vec3(d.anchor.value_or(centre(d.body1)), at);
+        break;
+      case JointField::Anchor2:
+        j[key] = vec3(d.anchor2.value_or(centre(d.body2)), at);
+        break;
+      case JointField::Axis:
+      case JointField::Axis1:
+        j[key] = direction(d.axis, at);
+        break;
+      case JointField::Axis2:
+        j[key] = direction(d.axis2, at);
+        break;
+      case JointField::Length:
+        if (d.length) j[key] = number(*d.length, at);
+        break;
+      case JointField::Rope:
+        if (d.rope) j[key] = true;
+        break;
+      case JointField::Cone:
+        if (d.cone)
+          j[key] = json{{"swing1", number(d.cone->swing1, childPath(at, "swing1"))},
+                        {"swing2", number(d.cone->swing2, childPath(at, "swing2"))}};
+        break;
+      case JointField::Ratio:
+        j[key] = number(d.ratio, at);
+        break;
+      case JointField::Axes:
+        break;  // with their coordinates (coordinates())
+      case JointField::Leader:
+        j[key] = jointName(d.leader, at);
+        break;
+      case JointField::Follower:
+        j[key] = jointName(d.follower, at);
+        break;
+      case JointField::Offset:
+        putIfChanged(j, key, d.offset, 0.0, path);
+        break;
+    }
   }
 
   // A joint with one free coordinate takes its fields as its own; one with several, an object per
@@ -488,7 +511,7 @@ class Writer {
   static void coordinates(json& j, const JointTypeInfo& info, const JointDef& d,
                           const std::string& path) {
     const int free = info.freeCoordinates(d);
-    if (info.uses_axes) {  // each axis with what acts on its coordinate
+    if (info.usesAxes()) {  // each axis with what acts on its coordinate
       json axes = json::array();
       for (std::size_t i = 0; i < d.axes.size(); ++i) {
         const std::string item = itemPath(childPath(path, "axes"), i);
@@ -508,7 +531,7 @@ class Writer {
                fmt::format("a {} joint has {} free coordinates", info.name, free));
         continue;
       }
-      if (info.uses_axes) continue;  // written with its axis
+      if (info.usesAxes()) continue;  // written with its axis
       if (free == 1) {
         j.update(coordinate(c, path));
         continue;

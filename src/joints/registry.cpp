@@ -64,72 +64,44 @@ constexpr CoordinateInfo kBallAngle[] = {{"angle", false, true, true}};
 constexpr CoordinateInfo kSerial[] = {{"axes[0]"}, {"axes[1]"}, {"axes[2]"},
                                       {"axes[3]"}, {"axes[4]"}, {"axes[5]"}};
 
-// One line per type: what it uses of a JointDef, and how it is made.
+// Each type's own fields, in the order files and docs give them; required ones marked.
+using F = JointField;
+constexpr TypeField kPoint[] = {{F::Anchor}};
+constexpr TypeField kSliderFields[] = {{F::Anchor}, {F::Axis, true}};
+constexpr TypeField kPointAxis[] = {{F::Anchor, true}, {F::Axis, true}};
+constexpr TypeField kPivot[] = {{F::Anchor, true}};
+constexpr TypeField kPointFrame[] = {{F::Anchor, true}, {F::Axis1, true}, {F::Axis2, true}};
+constexpr TypeField kDistanceFields[] = {{F::Anchor1}, {F::Anchor2}, {F::Length}, {F::Rope}};
+constexpr TypeField kConeTwistFields[] = {
+    {F::Anchor, true}, {F::Axis1, true}, {F::Axis2, true}, {F::Cone}};
+constexpr TypeField kGeared[] = {{F::Anchor}, {F::Axis1, true}, {F::Axis2, true}, {F::Ratio, true}};
+constexpr TypeField kTwoPoints[] = {{F::Anchor1}, {F::Anchor2}};
+constexpr TypeField kSerialFields[] = {{F::Anchor}, {F::Axes, true}};
+constexpr TypeField kMimicFields[] = {
+    {F::Leader, true}, {F::Follower, true}, {F::Ratio}, {F::Offset}};
+
+// One line per type: its fields and coordinates, and how it is made.
 struct Registered {
   JointTypeInfo info;
   Maker make;
 };
 constexpr auto kTypes = std::to_array<Registered>({
-    {{.name = "fixed"}, &make<joints::FixedJoint>},
-    {{.name = "slider", .uses_axis = true, .coordinates = kPosition}, &make<joints::SliderJoint>},
-    {{.name = "hinge", .needs_anchor = true, .uses_axis = true, .coordinates = kAngle},
-     &make<joints::HingeJoint>},
-    {{.name = "ball", .needs_anchor = true, .coordinates = kBallAngle}, &make<joints::BallJoint>},
-    {{.name = "universal",
-      .needs_anchor = true,
-      .uses_axis = true,
-      .uses_axis2 = true,
-      .coordinates = kTwoAngles},
-     &make<joints::UniversalJoint>},
-    {{.name = "cylindrical",
-      .needs_anchor = true,
-      .uses_axis = true,
-      .coordinates = kPositionAngle},
-     &make<joints::CylindricalJoint>},
-    {{.name = "hinge2",
-      .needs_anchor = true,
-      .uses_axis = true,
-      .uses_axis2 = true,
-      .coordinates = kWheel},
-     &make<joints::Hinge2Joint>},
-    {{.name = "distance", .uses_anchor2 = true, .uses_length = true, .coordinates = kLength},
-     &make<joints::DistanceJoint>},
-    {{.name = "cone_twist",
-      .needs_anchor = true,
-      .uses_axis = true,
-      .uses_axis2 = true,
-      .uses_cone = true,
-      .coordinates = kTwistSwing},
-     &make<joints::ConeTwistJoint>},
-    {{.name = "planar",
-      .needs_anchor = true,
-      .uses_axis = true,
-      .uses_axis2 = true,
-      .coordinates = kPlane},
-     &make<joints::PlanarJoint>},
-    {{.name = "gear",
-      .uses_axis = true,
-      .uses_axis2 = true,
-      .uses_ratio = true,
-      .coordinates = kGearAngles},
-     &make<joints::GearJoint>},
-    {{.name = "generic",
-      .needs_anchor = true,
-      .uses_axis = true,
-      .uses_axis2 = true,
-      .coordinates = kSixAxes},
-     &make<joints::GenericJoint>},
-    {{.name = "spring", .uses_anchor2 = true, .coordinates = kFreeLength},
-     &make<joints::SpringJoint>},
-    {{.name = "rack_and_pinion",
-      .uses_axis = true,
-      .uses_axis2 = true,
-      .uses_ratio = true,
-      .coordinates = kRackPinion},
-     &make<joints::RackPinionJoint>},
-    {{.name = "serial", .uses_axes = true, .coordinates = kSerial}, &make<joints::SerialJoint>},
-    {{.name = "mimic", .uses_ratio = true, .couples_joints = true},
-     &makeCoupling<joints::MimicJoint>},
+    {{"fixed", kPoint}, &make<joints::FixedJoint>},
+    {{"slider", kSliderFields, kPosition}, &make<joints::SliderJoint>},
+    {{"hinge", kPointAxis, kAngle}, &make<joints::HingeJoint>},
+    {{"ball", kPivot, kBallAngle}, &make<joints::BallJoint>},
+    {{"universal", kPointFrame, kTwoAngles}, &make<joints::UniversalJoint>},
+    {{"cylindrical", kPointAxis, kPositionAngle}, &make<joints::CylindricalJoint>},
+    {{"hinge2", kPointFrame, kWheel}, &make<joints::Hinge2Joint>},
+    {{"distance", kDistanceFields, kLength}, &make<joints::DistanceJoint>},
+    {{"cone_twist", kConeTwistFields, kTwistSwing}, &make<joints::ConeTwistJoint>},
+    {{"planar", kPointFrame, kPlane}, &make<joints::PlanarJoint>},
+    {{"gear", kGeared, kGearAngles}, &make<joints::GearJoint>},
+    {{"generic", kPointFrame, kSixAxes}, &make<joints::GenericJoint>},
+    {{"spring", kTwoPoints, kFreeLength}, &make<joints::SpringJoint>},
+    {{"rack_and_pinion", kGeared, kRackPinion}, &make<joints::RackPinionJoint>},
+    {{"serial", kSerialFields, kSerial}, &make<joints::SerialJoint>},
+    {{"mimic", kMimicFields}, &makeCoupling<joints::MimicJoint>},
 });
 constexpr std::array<JointTypeInfo, kTypes.size()> kInfo = [] {
   std::array<JointTypeInfo, kTypes.size()> info{};
@@ -143,38 +115,38 @@ namespace joints {
 void validate(const JointTypeInfo& t, const JointDef& def) {
   if (def.anchor && !def.anchor->allFinite())
     throw std::invalid_argument("anchor: not a finite vector");
-  if (t.uses_axis && !(def.axis.allFinite() && def.axis.norm() > 1e-12))
+  if (t.usesAxis() && !(def.axis.allFinite() && def.axis.norm() > 1e-12))
     throw std::invalid_argument("axis: must be a finite non-zero vector");
-  if (t.uses_axis2 && !(def.axis2.allFinite() && def.axis2.norm() > 1e-12))
+  if (t.usesAxis2() && !(def.axis2.allFinite() && def.axis2.norm() > 1e-12))
     throw std::invalid_argument("axis2: must be a finite non-zero vector");
   // Two axes are a frame's (a cross's arms, a plane's x and y), except a gear's two axles.
-  if (t.uses_axis2 && !t.uses_ratio) {
+  if (t.usesAxis2() && !t.uses(JointField::Ratio)) {
     const double cosine = def.axis.normalized().dot(def.axis2.normalized());
     if (std::abs(cosine) > 1e-6)
       throw std::invalid_argument(
           fmt::format("axis2: must be perpendicular to axis1 (they are {:.6g} deg apart)",
                       std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / M_PI));
   }
-  if (t.uses_anchor2 && def.anchor2 && !def.anchor2->allFinite())
+  if (t.usesAnchor2() && def.anchor2 && !def.anchor2->allFinite())
     throw std::invalid_argument("anchor2: not a finite vector");
-  if (t.uses_length) {
+  if (t.uses(JointField::Length)) {
     if (def.length && !(std::isfinite(*def.length) && *def.length > 0.0))
       throw std::invalid_argument("length: must be finite and > 0");
   } else if (def.length || def.rope) {
     throw std::invalid_argument(
         fmt::format("{}: not used by a {} joint", def.length ? "length" : "rope", t.name));
   }
-  if (t.uses_axes) {
+  if (t.usesAxes()) {
     validateAxes(def.axes);
   } else if (!def.axes.empty()) {
     throw std::invalid_argument(fmt::format("axes: not used by a {} joint", t.name));
   }
-  if (t.uses_ratio && !(std::isfinite(def.ratio) && def.ratio != 0.0))
+  if (t.uses(JointField::Ratio) && !(std::isfinite(def.ratio) && def.ratio != 0.0))
     throw std::invalid_argument("ratio: must be finite and non-zero");
-  if (t.couples_joints && !std::isfinite(def.offset))
+  if (t.couplesJoints() && !std::isfinite(def.offset))
     throw std::invalid_argument("offset: must be finite");
   if (def.cone) {
-    if (!t.uses_cone)
+    if (!t.uses(JointField::Cone))
       throw std::invalid_argument(fmt::format("cone: not used by a {} joint", t.name));
     for (const double s : {def.cone->swing1, def.cone->swing2})
       if (!(s > 0.0 && s < M_PI))
@@ -206,7 +178,7 @@ void validate(const JointTypeInfo& t, const JointDef& def) {
     // Messages name the coordinate as scene files do: "angle1.limits: ...", "axes[1].limits: ...",
     // or "limits: ..." for a joint with one.
     const std::string prefix =
-        free == 1 && !t.uses_axes
+        free == 1 && !t.usesAxes()
             ? ""
             : fmt::format("{}.", t.coordinates[static_cast<std::size_t>(i)].name);
     validateCoordinate(c, prefix);
@@ -263,6 +235,23 @@ void validateSpring(const JointSpring& s) {
 
 }  // namespace joints
 
+std::string_view jointFieldName(JointField field) {
+  static constexpr std::string_view kNames[] = {"anchor", "anchor1", "anchor2",  "axis",  "axis1",
+                                                "axis2",  "length",  "rope",     "cone",  "ratio",
+                                                "axes",   "leader",  "follower", "offset"};
+  return kNames[static_cast<std::size_t>(field)];
+}
+
+bool JointTypeInfo::uses(JointField field) const {
+  return std::any_of(fields.begin(), fields.end(),
+                     [&](const TypeField& f) { return f.field == field; });
+}
+
+bool JointTypeInfo::needs(JointField field) const {
+  return std::any_of(fields.begin(), fields.end(),
+                     [&](const TypeField& f) { return f.field == field && f.required; });
+}
+
 int JointTypeInfo::freeCoordinates() const {
   int n = 0;
   while (n < static_cast<int>(coordinates.size()) && coordinates[static_cast<std::size_t>(n)].free)
@@ -271,7 +260,7 @@ int JointTypeInfo::freeCoordinates() const {
 }
 
 int JointTypeInfo::freeCoordinates(const JointDef& def) const {
-  return uses_axes ? static_cast<int>(def.axes.size()) : freeCoordinates();
+  return usesAxes() ? static_cast<int>(def.axes.size()) : freeCoordinates();
 }
 
 std::span<const JointTypeInfo> jointTypes() {
@@ -292,10 +281,10 @@ std::unique_ptr<Joint> makeJoint(std::string_view type, const JointDef& def, con
                                  const BodyState& b2, std::array<const Joint*, 2> coupled) {
   const JointTypeInfo* t = findJointType(type);
   if (!t) throw std::invalid_argument(fmt::format("unknown joint type '{}'", type));
-  if (t->couples_joints && !(coupled[0] && coupled[1]))
+  if (t->couplesJoints() && !(coupled[0] && coupled[1]))
     throw std::invalid_argument(
         fmt::format("a {} joint ties two joints: its leader and follower are needed", t->name));
-  if (t->needs_anchor && !def.anchor)
+  if (t->needs(JointField::Anchor) && !def.anchor)
     throw std::invalid_argument(
         fmt::format("anchor: a {} joint needs one (the point it turns about)", t->name));
   JointDef resolved = def;

@@ -185,7 +185,7 @@ JointId World::createJoint(std::string_view type, const JointDef& given) {
   // A joint that ties two joints (a mimic joint) is between the follower's bodies.
   JointDef def = given;
   std::array<const Joint*, 2> coupled = {nullptr, nullptr};
-  if (const JointTypeInfo* t = findJointType(type); t && t->couples_joints) {
+  if (const JointTypeInfo* t = findJointType(type); t && t->couplesJoints()) {
     for (const auto& [field, id, out] : {std::tuple{"leader", def.leader, &coupled[0]},
                                          std::tuple{"follower", def.follower, &coupled[1]}}) {
       if (!id) throw std::invalid_argument(fmt::format("{}: a {} joint needs one", field, type));
