@@ -16,6 +16,7 @@ namespace linx {
 namespace {
 
 constexpr double kRadius = 0.05;
+constexpr int kRagdolls = 6;
 
 /// 17 x 17 x 15 spheres in touching columns on a floor, each nudged sideways by a fixed pattern so
 /// that the pile has to settle (a column of perfect spheres would just stand).
@@ -236,6 +237,114 @@ TEST(Threads, JointBlocksInAColouredSweepStepToTheSameStateForAnyThreadCount) {
     EXPECT_EQ(differingBodies(world, reference), 0) << threads << " threads";
     EXPECT_EQ(world.lastReport().residual, reference.lastReport().residual);
   }
+}
+
+/// Ragdolls of 11 capsules joined by 10 limited hinges (the benchmark's scene), dropped tilted in
+/// a row onto a floor with friction: one island each, moved by the accurate integrator while they
+/// fall (the default integrator "auto": islands of joints alone), then by the step with contacts
+/// (PGS), small islands solved side by side on several threads.
+World ragdolls(int threads) {
+  WorldSettings s;
+  s.timestep = 1.0 / 60.0;
+  s.threads = threads;
+  World world(s);
+  BodyDef floor;
+  floor.name = "floor";
+  floor.is_static = true;
+  floor.shapes.push_back(ShapeDef{.type = ShapeType::Plane, .friction = 0.5});
+  world.createBody(floor);
+  struct Part {
+    double mass, radius, half_length;
+    Vec3 centre, along;
+  };
+  const Part parts[] = {
+      {10.0, 0.12, 0.05, Vec3(0, 0, 1.00), Vec3::UnitZ()},      // pelvis
+      {15.0, 0.13, 0.12, Vec3(0, 0, 1.43), Vec3::UnitZ()},      // torso
+      {5.0, 0.10, 0.02, Vec3(0, 0, 1.81), Vec3::UnitZ()},       // head
+      {2.0, 0.05, 0.10, Vec3(0, 0.34, 1.58), Vec3::UnitY()},    // upper arms
+      {1.5, 0.045, 0.10, Vec3(0, 0.645, 1.58), Vec3::UnitY()},  // lower arms
+      {2.0, 0.05, 0.10, Vec3(0, -0.34, 1.58), Vec3::UnitY()},
+      {1.5, 0.045, 0.10, Vec3(0, -0.645, 1.58), Vec3::UnitY()},
+      {7.0, 0.07, 0.15, Vec3(0, 0.10, 0.60), Vec3::UnitZ()},  // thighs and shins
+      {4.0, 0.06, 0.15, Vec3(0, 0.10, 0.16), Vec3::UnitZ()},
+      {7.0, 0.07, 0.15, Vec3(0, -0.10, 0.60), Vec3::UnitZ()},
+      {4.0, 0.06, 0.15, Vec3(0, -0.10, 0.16), Vec3::UnitZ()},
+  };
+  struct Link {
+    int parent, child;
+    Vec3 anchor, axis;
+    double limit;
+  };
+  const Link links[] = {
+      {0, 1, Vec3(0, 0, 1.175), Vec3::UnitY(), 0.5},
+      {1, 2, Vec3(0, 0, 1.685), Vec3::UnitY(), 0.6},
+      {1, 3, Vec3(0, 0.185, 1.58), Vec3::UnitX(), 1.2},
+      {3, 4, Vec3(0, 0.4925, 1.58), Vec3::UnitZ(), 1.2},
+      {1, 5, Vec3(0, -0.185, 1.58), Vec3::UnitX(), 1.2},
+      {5, 6, Vec3(0, -0.4925, 1.58), Vec3::UnitZ(), 1.2},
+      {0, 7, Vec3(0, 0.10, 0.825), Vec3::UnitY(), 1.0},
+      {7, 8, Vec3(0, 0.10, 0.38), Vec3::UnitY(), 1.0},
+      {0, 9, Vec3(0, -0.10, 0.825), Vec3::UnitY(), 1.0},
+      {9, 10, Vec3(0, -0.10, 0.38), Vec3::UnitY(), 1.0},
+  };
+  for (int r = 0; r < kRagdolls; ++r) {
+    const Quat q = Quat(Eigen::AngleAxisd(0.7 * r, Vec3::UnitZ())) *
+                   Quat(Eigen::AngleAxisd(0.25 + 0.05 * r, Vec3::UnitX()));
+    const Vec3 offset(2.5 * r, 0.0, 0.3 + 0.06 * r);
+    std::vector<BodyId> ids;
+    for (std::size_t k = 0; k < std::size(parts); ++k) {
+      const Part& p = parts[k];
+      BodyDef d;
+      d.name = "doll" + std::to_string(r) + "_" + std::to_string(k);
+      d.mass = p.mass;
+      const double i_axis = 0.4 * p.mass * p.radius * p.radius;
+      const double i_across = p.mass * (p.radius * p.radius / 4.0 + p.half_length * p.half_length);
+      d.inertia = Vec3(i_across, i_across, i_axis).asDiagonal();
+      d.position = q * p.centre + offset;
+      d.orientation = q * Quat::FromTwoVectors(Vec3::UnitZ(), p.along);
+      d.shapes.push_back(ShapeDef{.type = ShapeType::Capsule,
+                                  .radius = p.radius,
+                                  .length = 2.0 * p.half_length,
+                                  .friction = 0.5});
+      ids.push_back(world.createBody(d));
+    }
+    for (const Link& l : links) {
+      JointDef j;
+      j.name = "doll" + std::to_string(r) + "_hinge" + std::to_string(l.child);
+      j.body1 = ids[static_cast<std::size_t>(l.parent)];
+      j.body2 = ids[static_cast<std::size_t>(l.child)];
+      j.anchor = q * l.anchor + offset;
+      j.axis = q * l.axis;
+      j.coordinates[0].limits = JointLimits{-l.limit, l.limit};
+      world.createJoint("hinge", j);
+    }
+  }
+  return world;
+}
+
+TEST(Threads, RagdollsStepToTheSameStateForAnyThreadCount) {
+  constexpr int kSteps = 60;
+  std::vector<World> worlds;
+  for (const int threads : {1, 2, 3, 4}) worlds.push_back(ragdolls(threads));
+  int accurate_steps = 0;  // steps on which the accurate integrator moved a falling ragdoll
+  bool touched = false;    // some ragdoll reached the floor: contacts with friction were solved
+  for (int i = 0; i < kSteps; ++i) {
+    for (World& world : worlds) world.step();
+    const World& reference = worlds.front();
+    for (std::size_t w = 1; w < worlds.size(); ++w) {
+      ASSERT_EQ(differingBodies(worlds[w], reference), 0)
+          << "step " << i + 1 << ", " << w + 1 << " threads";
+      expectSameContacts(worlds[w], reference);
+      EXPECT_EQ(worlds[w].lastReport().iterations, reference.lastReport().iterations);
+      EXPECT_EQ(worlds[w].lastReport().residual, reference.lastReport().residual);
+      EXPECT_EQ(worlds[w].lastIntegratorReport().bodies, reference.lastIntegratorReport().bodies);
+    }
+    if (reference.lastIntegratorReport().bodies > 0) ++accurate_steps;
+    for (const Contact& c : reference.contacts())
+      touched = touched || c.body1 == BodyId{0} || c.body2 == BodyId{0};
+  }
+  EXPECT_GT(accurate_steps, 0);
+  EXPECT_TRUE(touched);
 }
 
 }  // namespace

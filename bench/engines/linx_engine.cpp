@@ -163,20 +163,24 @@ Variant variant(std::string settings, const linx::SolverSettings& solver, bool r
 }
 
 /// The reference row: linx's defaults, one thread. With contacts every island takes the step
-/// (the default integrator "auto" gives the accurate one islands of joints alone).
-Variant defaultRow(const Scene& scene) {
+/// (the default integrator "auto" gives the accurate one islands of joints alone). With `threads`
+/// above one, the same defaults on that many threads, checked against the reference row to the
+/// bit: only the thread count may differ between the two (the integrator too once made ragdolls,
+/// whose islands of joints alone "auto" gives the accurate integrator, differ from step 1).
+Variant defaultRow(const Scene& scene, int threads = 1) {
   const linx::SolverSettings defaults;
-  if (hasContacts(scene)) {
-    Variant v = variant("default: auto (PGS on friction islands, " +
-                            std::to_string(defaults.iterations) + " it max)",
-                        defaults, true, 1, linx::IntegratorSettings{});
-    v.knob = "default step: auto (PGS, " + std::to_string(defaults.iterations) + " sweeps max)";
-    return v;
-  }
-  Variant v = variant("default: integrator auto, solver auto (exact, post-stabilization " +
-                          std::to_string(defaults.post_stabilization) + " it)",
-                      defaults, true, 1, linx::IntegratorSettings{});
-  v.knob = "default: integrator auto";
+  const bool contacts = hasContacts(scene);
+  std::string settings = contacts
+                             ? "default: auto (PGS on friction islands, " +
+                                   std::to_string(defaults.iterations) + " it max)"
+                             : "default: integrator auto, solver auto (exact, post-stabilization " +
+                                   std::to_string(defaults.post_stabilization) + " it)";
+  if (threads > 1) settings += ", " + std::to_string(threads) + " threads";
+  Variant v =
+      variant(std::move(settings), defaults, threads == 1, threads, linx::IntegratorSettings{});
+  v.knob = contacts
+               ? "default step: auto (PGS, " + std::to_string(defaults.iterations) + " sweeps max)"
+               : "default: integrator auto";
   return v;
 }
 
@@ -215,9 +219,7 @@ std::vector<Variant> linxVariants(const Scene& scene) {
   if (hasContacts(scene)) {
     // The same on every hardware thread: the same results to the bit, in less time.
     const int cores = static_cast<int>(std::thread::hardware_concurrency());
-    if (cores > 1)
-      out.push_back(variant(out.front().settings + ", " + std::to_string(cores) + " threads",
-                            defaults, false, cores));
+    if (cores > 1) out.push_back(defaultRow(scene, cores));
     out.push_back(softStep(4));
     if (cores > 1) {  // its sweeps split over the threads by colour
       Variant threaded = softStep(4, cores);
