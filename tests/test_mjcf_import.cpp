@@ -294,6 +294,54 @@ TEST_F(MjcfImport, NestedIncludesSpliceTheirElements) {
   EXPECT_NEAR(*scene.bodies[0].mass, 4.0 / 3.0 * kPi * 1e-3 * 1000.0, 1e-12);
 }
 
+// A joint whose ref lies outside its range (Menagerie's A1, Gym's ant) is loaded, as MuJoCo loads
+// it: it starts at its nearest bound, the bodies placed there at rest, so the first step makes no
+// energy; one warning names every such joint; a scene file written from it starts the same.
+TEST_F(MjcfImport, JointStartingOutsideItsRangeStartsAtItsNearestBound) {
+  const Scene scene = importMjcf(write("arm.xml", R"(<mujoco>
+  <worldbody>
+    <body name="upper" pos="0 0 2">
+      <joint name="shoulder" type="hinge" axis="0 1 0" range="-30 30"/>
+      <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05" mass="1"/>
+      <body name="lower" pos="0.5 0 0">
+        <joint name="elbow" type="hinge" axis="0 1 0" range="30 90"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05" mass="1"/>
+        <body name="hand" pos="0.5 0 0">
+          <joint name="wrist" type="slide" axis="1 0 0" range="0.1 0.2" ref="0.3"/>
+          <geom type="sphere" size="0.05" mass="0.5"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>)"));
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_EQ(scene.warnings[0],
+            (dir_ / "arm.xml").string() +
+                ": 2 joints start outside their range, moved to the nearest bound (the bodies "
+                "placed there at rest, as MuJoCo and PyBullet load it): 'elbow' at 0 rad, range "
+                "[0.523599, 1.5708]; 'wrist' at 0.3 m, range [0.1, 0.2]");
+  World world = buildWorld(scene);
+  const JointId elbow{1}, wrist{2};
+  EXPECT_NEAR(world.jointCoordinates(elbow)[0], kPi / 6, 1e-12);
+  EXPECT_NEAR(world.jointCoordinates(wrist)[0], 0.2, 1e-12);  // counted with its ref
+  EXPECT_LT(world.jointError(elbow), 1e-12);
+  for (int b = 0; b < world.bodyCount(); ++b)
+    EXPECT_EQ(world.body(BodyId{b}).linearVelocity().norm(), 0.0);
+  // Undriven and undamped: the swing keeps its energy (no kick from the limits), and the elbow
+  // never leaves its range.
+  const double start = world.energy().total();
+  double lowest_elbow = kPi;
+  for (int i = 0; i < 1000; ++i) {
+    world.step();
+    lowest_elbow = std::min(lowest_elbow, world.jointCoordinates(elbow)[0]);
+    EXPECT_LT(world.energy().total(), start + 1e-6) << "step " << i;
+  }
+  EXPECT_GT(lowest_elbow, kPi / 6 - 1e-6);
+  // Written as a scene file, it starts where the import does (the joints' `initial`).
+  const Scene written = parseScene(writeSceneJson(scene), "arm.json");
+  EXPECT_NEAR(buildWorld(written).jointCoordinates(elbow)[0], kPi / 6, 1e-12);
+}
+
 TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
   const auto refused = [&](const std::string& text, const std::string& expected) {
     const fs::path file = write("bad.xml", text);

@@ -148,6 +148,24 @@ TEST_F(UrdfImport, ArmFallsAsTheSameModelInTheSceneFormat) {
   EXPECT_LE(urdf.jointCoordinates(JointId{1})[0], 0.5 + 1e-3);
 }
 
+// A joint whose zero lies outside its <limit> (bullet3's NAO) is loaded as PyBullet loads it: it
+// starts at its nearest bound, placed there at rest, with one warning naming it and its range.
+TEST_F(UrdfImport, JointStartingOutsideItsLimitStartsAtItsNearestBound) {
+  std::string text = kArmUrdf;
+  const std::string limit = R"(<limit lower="-0.5" upper="0.5")";
+  text.replace(text.find(limit), limit.size(), R"(<limit lower="0.25" upper="0.5")");
+  const Scene scene = importUrdf(write("arm.urdf", text));
+  ASSERT_FALSE(scene.warnings.empty());
+  EXPECT_NE(scene.warnings.back().find("1 joint starts outside its range, moved to the nearest "
+                                       "bound"),
+            std::string::npos)
+      << scene.warnings.back();
+  EXPECT_NE(scene.warnings.back().find("'elbow' at 0 rad, range [0.25, 0.5]"), std::string::npos);
+  World world = buildWorld(scene);
+  EXPECT_NEAR(world.jointCoordinates(JointId{1})[0], 0.25, 1e-12);
+  EXPECT_LT(world.jointError(JointId{1}), 1e-12);
+}
+
 TEST_F(UrdfImport, FloatingBaseFallsFreely) {
   const fs::path file = write("arm.urdf", kArmUrdf);
   ImportOptions floating;

@@ -172,7 +172,15 @@ class MjcfImporter {
 
   void unused(const std::string& what) { ++unused_[what]; }
 
+  // A joint that starts outside its range starts at its nearest bound (io::startInsideLimits).
+  void startInside(CoordinateDef& c, const std::string& joint, bool angular) {
+    if (auto moved = io::startInsideLimits(c, joint, angular)) started_outside_.push_back(*moved);
+  }
+
   void warn() {
+    if (!started_outside_.empty())
+      scene_.warnings.push_back(
+          fmt::format("{}: {}", file_, io::startOutsideWarning(started_outside_)));
     if (unused_.empty()) return;
     std::string list;
     for (const auto& [what, count] : unused_)
@@ -552,6 +560,7 @@ class MjcfImporter {
     else
       fail(where(e), fmt::format("type: '{}' is not a joint type linx reads", type));
     def.coordinates[0] = coordinate(e, cls, type);
+    startInside(def.coordinates[0], def.name, type != "slide");
     joint_coordinate_[def.name] = {scene_.joints.size(), 0};
     scene_.joints.push_back(std::move(j));
   }
@@ -577,6 +586,7 @@ class MjcfImporter {
       def.axes.push_back(SerialAxis{type == "slide", axis, anchor});
       def.coordinates[i] = coordinate(e, cls, type);
       const std::string name = jointName(e, body1, i);
+      startInside(def.coordinates[i], name, type != "slide");
       def.name += (i == 0 ? "" : "+") + name;
       joint_coordinate_[name] = {scene_.joints.size(), static_cast<int>(i)};
     }
@@ -863,6 +873,7 @@ class MjcfImporter {
   // Each named <joint>: its scene joint and coordinate there (actuators find it by name).
   std::map<std::string, std::pair<std::size_t, int>> joint_coordinate_;
   std::map<std::string, int> unused_;
+  std::vector<io::StartOutside> started_outside_;  // joints moved inside their range
   int world_geoms_ = -1;
   int includes_ = 0;         // <include>s read
   std::uint64_t bytes_ = 0;  // bytes read: the model and every include read

@@ -410,6 +410,9 @@ class UrdfImporter {
     io::completeImported(scene, "link");
     scene.warnings = xml.unsupported.warnings(file_);
     if (!meshes_made_convex_.empty()) scene.warnings.push_back(convexMeshesWarning());
+    if (!started_outside_.empty())
+      scene.warnings.push_back(
+          fmt::format("{}: {}", file_, io::startOutsideWarning(started_outside_)));
     return scene;
   }
 
@@ -666,7 +669,7 @@ class UrdfImporter {
     return out;
   }
 
-  std::optional<SceneJoint> makeJoint(const urdf::Joint& j, const Scene& scene) const {
+  std::optional<SceneJoint> makeJoint(const urdf::Joint& j, const Scene& scene) {
     if (j.type == urdf::Joint::FLOATING) return std::nullopt;  // the child moves freely
     if (ownerOf(j.child_link_name) != j.child_link_name) return std::nullopt;  // merged
     const std::string where = fmt::format("joint '{}'", j.name);
@@ -691,6 +694,9 @@ class UrdfImporter {
             fail(where, fmt::format("<limit> lower {} is above upper {}", j.limits->lower,
                                     j.limits->upper));
           coordinate.limits = JointLimits{j.limits->lower, j.limits->upper};
+          if (auto moved =
+                  io::startInsideLimits(coordinate, j.name, j.type == urdf::Joint::REVOLUTE))
+            started_outside_.push_back(*moved);
         }
         break;
       case urdf::Joint::CONTINUOUS:
@@ -725,7 +731,8 @@ class UrdfImporter {
   urdf::ModelInterfaceSharedPtr model_;
   std::map<std::string, Pose> frame_;
   std::map<std::string, std::string> owner_;
-  std::vector<std::string> meshes_made_convex_;  // where each is, and its file
+  std::vector<std::string> meshes_made_convex_;    // where each is, and its file
+  std::vector<io::StartOutside> started_outside_;  // joints moved inside their range
 
   /// One warning for every mesh on a moving link: they collide as their convex hulls (the first
   /// few named).
