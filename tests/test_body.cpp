@@ -140,7 +140,7 @@ TEST(Body, MassPropertiesThatContradictOrAreMissingAreRefused) {
   d.shapes.clear();
   d.mass.reset();
   d.shapes = {ShapeDef{.type = ShapeType::Sphere, .radius = 0.1}};
-  EXPECT_EQ(message(d), "shapes[0].density: a positive density is needed to compute the mass");
+  EXPECT_EQ(message(d), "shapes[0].density: a density >= 0 is needed to compute the mass");
   // A mass and a density that disagree: one of them would be ignored.
   d.shapes[0].density = 1000.0;
   d.mass = 1.0;

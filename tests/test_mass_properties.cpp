@@ -111,5 +111,28 @@ TEST(MassProperties, DumbbellFollowsTheParallelAxisTheorem) {
   EXPECT_NEAR(d.inertia(0, 0), 0.4 * m * 0.01, 1e-12);
 }
 
+// A shape of density 0 (MJCF's mass="0" geoms) weighs nothing: the body's mass, centre and
+// inertia are those of its other shapes, by the box's closed form; with every density 0 there is
+// no mass to make, and a negative density is refused.
+TEST(MassProperties, MasslessShapesAddNothing) {
+  BodyDef body;
+  body.name = "b";
+  body.shapes = {
+      ShapeDef{.type = ShapeType::Box, .size = Vec3(1, 2, 3), .density = 2.0},
+      ShapeDef{
+          .type = ShapeType::Sphere, .radius = 0.7, .position = Vec3(3, 0, 0), .density = 0.0}};
+  completeMassProperties(body);
+  EXPECT_NEAR(*body.mass, 12.0, 1e-12);
+  EXPECT_TRUE(body.inertia->isApprox(Vec3(13.0, 10.0, 5.0).asDiagonal().toDenseMatrix(), 1e-14));
+  EXPECT_EQ(body.position, Vec3::Zero());  // the box's centre, not moved towards the sphere
+  BodyDef none = body;
+  none.mass.reset();
+  none.inertia.reset();
+  none.shapes[0].density = 0.0;
+  EXPECT_THROW(completeMassProperties(none), std::invalid_argument);
+  none.shapes[0].density = -1.0;
+  EXPECT_THROW(completeMassProperties(none), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace linx

@@ -24,12 +24,13 @@ from linx._linx import (
     __version__,
     load,
     loads,
+    schema,
 )
 
 __all__ = [
     "Batch", "Body", "BoundExceeded", "BusyError", "CheckpointError", "ClosedError",
     "EnergyGrowth", "Error", "Joint", "NonFiniteState", "Recording", "SceneError", "StepFault",
-    "World", "__version__", "load", "loads",
+    "World", "__version__", "load", "loads", "schema",
 ]
 
 from linx.pictures import Viewer, render, view

@@ -18,6 +18,7 @@ from linx._linx import (
     __version__ as __version__,
     load as load,
     loads as loads,
+    schema as schema,
 )
 from linx.pictures import Viewer as Viewer, render as render, view as view
 from linx.scene import (

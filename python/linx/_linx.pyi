@@ -1,7 +1,7 @@
 """Type stubs of linx._linx, the compiled core of the linx package (docs/python.md)."""
 
 import os
-from typing import Iterator, Optional, Union
+from typing import Any, Iterator, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -42,6 +42,8 @@ class EnergyGrowth(StepFault):
 def load(path: _Path, *, floating_base: bool = False,
          allow_outside_paths: bool = False) -> World: ...
 def loads(text: str, file: str = "<string>") -> World: ...
+def schema(record: Optional[str] = None) -> Union[dict[str, list[dict[str, Any]]],
+                                                  list[dict[str, Any]]]: ...
 
 class World:
     class Contacts:

@@ -13,5 +13,6 @@ void bindRecording(pybind11::module_& m,
                    pybind11::class_<PyWorld, std::shared_ptr<PyWorld>>& world);
 void bindBatch(pybind11::module_& m);
 void bindCallCosts(pybind11::module_& m);
+void bindSchema(pybind11::module_& m);
 
 }  // namespace linx::python

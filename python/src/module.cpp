@@ -11,4 +11,5 @@ PYBIND11_MODULE(_linx, m) {
   linx::python::bindWorld(m);
   linx::python::bindBatch(m);
   linx::python::bindCallCosts(m);
+  linx::python::bindSchema(m);
 }

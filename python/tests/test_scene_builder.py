@@ -68,3 +68,20 @@ def test_every_shape_helper_builds():
     world.step(2000)
     assert world.body_names == ["ground", "s", "b", "c", "y", "h"]
     assert (world.positions[1:, 2] < 1.0).all() and (world.positions[1:, 2] > -0.01).all()
+
+
+def test_schema_describes_the_fields_the_reader_checks():
+    # linx.schema() is the reader's own description: each bound it gives is refused by the reader.
+    records = linx.schema()
+    assert {"solver", "contact", "sleep", "faults", "motor", "limits"} <= set(records)
+    erp = {f["name"]: f for f in linx.schema("solver")}["erp"]
+    assert (erp["lower"], erp["upper"], erp["default"]) == (0.0, 1.0, "`0.2`")
+    max_force = {f["name"]: f for f in records["motor"]}["max_force"]
+    assert "max_torque" in max_force["aliases"] and max_force["lower"] == 0.0
+    scene = linx.Scene()
+    scene.body("b", mass=1.0, inertia=[1, 1, 1])
+    scene.set(solver={"erp": erp["upper"] + 0.5})
+    with pytest.raises(linx.SceneError, match="solver.erp: must be between 0 and 1, got 1.5"):
+        scene.build()
+    with pytest.raises(KeyError, match="no record 'solvr'"):
+        linx.schema("solvr")

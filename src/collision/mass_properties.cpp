@@ -139,12 +139,17 @@ void setMassFromShapes(BodyDef& body) {
   for (std::size_t k = 0; k < body.shapes.size(); ++k) {
     const ShapeDef& s = body.shapes[k];
     if (!isSolid(s.type)) continue;
-    if (!s.density || !(*s.density > 0.0) || !std::isfinite(*s.density))
+    if (!s.density || !(*s.density >= 0.0) || !std::isfinite(*s.density))
       throw std::invalid_argument(
-          fmt::format("shapes[{}].density: a positive density is needed to compute the mass", k));
-    parts.push_back(shapeMassProperties(s, *s.density));
+          fmt::format("shapes[{}].density: a density >= 0 is needed to compute the mass", k));
+    // Density 0: a massless shape (it collides, it weighs nothing: MJCF's mass="0" geoms).
+    if (*s.density > 0.0) parts.push_back(shapeMassProperties(s, *s.density));
   }
-  if (parts.empty()) throw std::invalid_argument("shapes: no solid shape to compute the mass from");
+  const bool solid = std::any_of(body.shapes.begin(), body.shapes.end(),
+                                 [](const ShapeDef& s) { return isSolid(s.type); });
+  if (!solid) throw std::invalid_argument("shapes: no solid shape to compute the mass from");
+  if (parts.empty())
+    throw std::invalid_argument("shapes: every density is 0: no mass to compute (give one > 0)");
   const MassProperties total = combine(parts);
   checkMadeFromShapes(total.mass, total.inertia);
   body.mass = total.mass;

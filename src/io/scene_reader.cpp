@@ -684,7 +684,7 @@ class Reader {
     }
     if (auto v = get(n, "position")) s.position = vec3(*v);
     if (auto v = get(n, "orientation")) s.orientation = orientation(*v);
-    if (auto v = get(n, "density")) s.density = positive(*v);
+    if (auto v = get(n, "density")) s.density = nonNegative(*v);
     if (auto v = get(n, "friction")) s.friction = nonNegative(*v);
     if (auto v = get(n, "restitution")) s.restitution = unitInterval(*v);
     if (auto v = get(n, "group")) s.group = static_cast<std::uint32_t>(bits(*v));
