@@ -362,9 +362,13 @@ TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
       "joint (line 2): type: a ball joint with other joints in one body (linx takes hinges and "
       "slides there)");
   refused(
-      "<mujoco><worldbody><body><freejoint/><geom type='ellipsoid' size='1 2 3'/></body>"
+      "<mujoco><worldbody><body><freejoint/><geom type='hfield' size='1 2 3'/></body>"
       "</worldbody></mujoco>",
-      "type: 'ellipsoid' is not a geom type linx reads");
+      "type: 'hfield' is not a geom type linx reads");
+  refused(
+      "<mujoco><worldbody><body><freejoint/><geom type='ellipsoid' size='1 2'/></body>"
+      "</worldbody></mujoco>",
+      "size: an ellipsoid needs 3 numbers");
   refused("<mujoco><worldbody><body><freejoint/><geom size='1 x'/></body></worldbody></mujoco>",
           "size: 'x' is not a finite number");
   refused("<mujoco><worldbody><body name='b'><joint/></body></worldbody></mujoco>",

@@ -829,7 +829,8 @@ TEST(SceneError, Shapes) {
       {shape(R"(1)"), "bodies[1].shapes[0]", "expected an object, got a number"},
       {shape(R"({"radius": 1})"), "bodies[1].shapes[0].type", "missing required field"},
       {shape(R"({"type": "cone"})"), "bodies[1].shapes[0].type",
-       "unknown shape type 'cone' (expected sphere, box, capsule, cylinder, plane, convex or "
+       "unknown shape type 'cone' (expected sphere, box, capsule, cylinder, ellipsoid, plane, "
+       "convex or "
        "mesh)"},
       {shape(R"({"type": "sphere", "radious": 1})"), "bodies[1].shapes[0].radious",
        "unknown field (did you mean 'radius'?)"},

@@ -11,15 +11,17 @@
 
 namespace linx {
 
-enum class ShapeType { Sphere, Box, Capsule, Cylinder, Plane, Convex, Mesh };
+enum class ShapeType { Sphere, Box, Capsule, Cylinder, Plane, Convex, Mesh, Ellipsoid };
 
-/// A shape in the body frame. Capsules and cylinders are along the local z axis. Planes and meshes
+/// A shape in the body frame. Capsules and cylinders are along the local z axis; an ellipsoid's
+/// semi-axes are along its local x, y and z. Planes and meshes
 /// are static geometry: only a static body may carry them.
 struct ShapeDef {
   ShapeType type = ShapeType::Sphere;
-  double radius = 0.5;       ///< sphere, capsule, cylinder (m)
-  Vec3 size = Vec3::Ones();  ///< box: full edge lengths (m)
-  double length = 1.0;       ///< capsule (between cap centres), cylinder (m)
+  double radius = 0.5;        ///< sphere, capsule, cylinder (m)
+  Vec3 size = Vec3::Ones();   ///< box: full edge lengths (m)
+  Vec3 radii = Vec3::Ones();  ///< ellipsoid: semi-axes along the shape's x, y, z (m)
+  double length = 1.0;        ///< capsule (between cap centres), cylinder (m)
   Vec3 normal =
       Vec3::UnitZ();           ///< plane: unit normal in the shape frame, pointing out of the solid
   double offset = 0.0;         ///< plane: the points x with normal . x = offset (shape frame, m)

@@ -34,10 +34,11 @@ __all__ = [
 ]
 
 from linx.pictures import Viewer, render, view
-from linx.scene import Scene, box, capsule, convex, cylinder, mesh, plane, sphere
+from linx.scene import Scene, box, capsule, convex, cylinder, ellipsoid, mesh, plane, sphere
 from linx.sweeps import SweepError, serial, sweep, write_csv
 
 __all__ += [
-    "Viewer", "render", "view", "Scene", "box", "capsule", "convex", "cylinder", "mesh", "plane",
+    "Viewer", "render", "view", "Scene", "box", "capsule", "convex", "cylinder", "ellipsoid",
+    "mesh", "plane",
     "sphere", "SweepError", "serial", "sweep", "write_csv",
 ]

@@ -27,6 +27,7 @@ from linx.scene import (
     capsule as capsule,
     convex as convex,
     cylinder as cylinder,
+    ellipsoid as ellipsoid,
     mesh as mesh,
     plane as plane,
     sphere as sphere,

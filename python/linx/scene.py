@@ -151,6 +151,11 @@ def cylinder(radius: float, length: float, **fields: Any) -> dict[str, Any]:
     return _shape("cylinder", radius=radius, length=length, **fields)
 
 
+def ellipsoid(radii: Any, **fields: Any) -> dict[str, Any]:
+    """An ellipsoid of semi-axes [a, b, c] along its x, y, z (m)."""
+    return _shape("ellipsoid", radii=radii, **fields)
+
+
 def plane(normal: Any = (0.0, 0.0, 1.0), offset: float = 0.0, **fields: Any) -> dict[str, Any]:
     """A plane (static bodies only): the points x with normal . x = offset; solid below."""
     return _shape("plane", normal=normal, offset=offset, **fields)

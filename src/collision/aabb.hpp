@@ -71,6 +71,9 @@ inline Aabb shapeAabb(const ShapeDef& shape, const Pose& body_pose) {
     case ShapeType::Capsule:
       half = 0.5 * shape.length * axis_z + Vec3::Constant(shape.radius);
       break;
+    case ShapeType::Ellipsoid:  // exact: the support of R diag(radii) along each world axis
+      half = (R * shape.radii.cwiseAbs().asDiagonal()).rowwise().norm();
+      break;
     case ShapeType::Cylinder:
       for (int i = 0; i < 3; ++i) {
         const double c = axis_z[i];

@@ -70,6 +70,7 @@ Feature supportingFeature(const ConvexSupport& s, const Vec3& dir) {
   const Vec3 axis = s.rotation.col(2);
   switch (s.core) {
     case Core::Point:
+    case Core::Ellipsoid:  // smooth: the one point where it touches (the witness)
       break;
     case Core::Segment: {
       const double c = axis.dot(dir);

@@ -59,6 +59,14 @@ Vec3 ConvexSupport::coreSupport(const Vec3& dir) const {
     case Core::Hull:
       local = hull->vertices()[hull->supportVertex(d)];
       break;
+    case Core::Ellipsoid: {
+      // The point of x^T D^-2 x = 1 (D = diag(half), the semi-axes) whose normal is d:
+      // x = D^2 d / |D d|.
+      const Vec3 scaled = half.cwiseProduct(d);
+      const double length = scaled.norm();
+      if (length > 0.0) local = half.cwiseProduct(scaled) / length;
+      break;
+    }
     case Core::Triangle: {
       int best = 0;
       for (int i = 1; i < 3; ++i)
@@ -104,6 +112,11 @@ ConvexSupport makeSupport(const ShapeInstance& shape) {
       s.core = ConvexSupport::Core::Cylinder;
       s.half = Vec3(def.radius, def.radius, 0.5 * def.length);
       s.size = std::hypot(def.radius, 0.5 * def.length);
+      break;
+    case ShapeType::Ellipsoid:
+      s.core = ConvexSupport::Core::Ellipsoid;
+      s.half = def.radii.cwiseAbs();
+      s.size = s.half.maxCoeff();
       break;
     case ShapeType::Convex: {
       if (shape.geometry == nullptr)

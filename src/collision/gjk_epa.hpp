@@ -29,10 +29,11 @@ class Geometry;
 
 /// A convex shape placed in the world, seen through its support function.
 struct ConvexSupport {
-  enum class Core { Point, Segment, Box, Cylinder, Hull, Triangle };
+  enum class Core { Point, Segment, Box, Cylinder, Hull, Triangle, Ellipsoid };
   Core core = Core::Point;
-  double radius = 0.0;             ///< added around the core (sphere, capsule), else 0 (m)
-  Vec3 half = Vec3::Zero();        ///< box half extents; segment (0, 0, L/2); cylinder (r, r, L/2)
+  double radius = 0.0;  ///< added around the core (sphere, capsule), else 0 (m)
+  /// Box half extents; segment (0, 0, L/2); cylinder (r, r, L/2); an ellipsoid's semi-axes.
+  Vec3 half = Vec3::Zero();
   const Geometry* hull = nullptr;  ///< Core::Hull
   std::array<Vec3, 3> triangle{};  ///< Core::Triangle, in the shape frame
   Vec3 position = Vec3::Zero();    ///< the shape frame in the world

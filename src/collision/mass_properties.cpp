@@ -47,6 +47,10 @@ Vec3 moments(const ShapeDef& s, double m) {
           mc * (L * L / 12.0 + r2 / 4.0) + ms * (0.4 * r2 + L * L / 4.0 + 3.0 * L * r / 8.0);
       return Vec3(side, side, 0.5 * mc * r2 + 0.4 * ms * r2);
     }
+    case ShapeType::Ellipsoid: {  // m/5 (b^2 + c^2), m/5 (a^2 + c^2), m/5 (a^2 + b^2)
+      const Vec3 a2 = s.radii.cwiseProduct(s.radii);
+      return m / 5.0 * Vec3(a2.y() + a2.z(), a2.x() + a2.z(), a2.x() + a2.y());
+    }
     case ShapeType::Plane:
     case ShapeType::Convex:
     case ShapeType::Mesh:
@@ -71,6 +75,8 @@ double shapeVolume(const ShapeDef& s) {
       return kPi * r * r * s.length;
     case ShapeType::Capsule:
       return kPi * r * r * s.length + 4.0 / 3.0 * kPi * r * r * r;
+    case ShapeType::Ellipsoid:
+      return 4.0 / 3.0 * kPi * s.radii.prod();
     case ShapeType::Plane:
     case ShapeType::Mesh:
       throw std::invalid_argument(fmt::format(

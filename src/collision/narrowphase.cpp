@@ -1,6 +1,6 @@
 // The narrowphase dispatcher: picks the routine for a pair of shape types. Exact routines serve
-// the primitive pairs (collision/primitive_pairs.hpp); hulls, cylinders against anything but a
-// plane, and every pair with a triangle mesh go through the general convex routines
+// the primitive pairs (collision/primitive_pairs.hpp); hulls, cylinders and ellipsoids against
+// anything but a plane, and every pair with a triangle mesh go through the general convex routines
 // (collision/convex_pairs.hpp). A routine is written for one order of its two types; the other
 // order calls it swapped and turns the normals of the points it appended around.
 #include "collision/narrowphase.hpp"
@@ -34,7 +34,8 @@ Routine routineFor(ShapeType ta, ShapeType tb) {
     return &collidePlane;
   }
   if (tb == T::Plane) return nullptr;
-  if (ta == T::Convex || tb == T::Convex || ta == T::Cylinder || tb == T::Cylinder)
+  if (ta == T::Convex || tb == T::Convex || ta == T::Cylinder || tb == T::Cylinder ||
+      ta == T::Ellipsoid || tb == T::Ellipsoid)
     return &collideConvex;
   // Primitive pairs, in the order sphere < capsule < box.
   switch (ta) {

@@ -8,6 +8,7 @@
 #include "collision/primitive_pairs.hpp"
 
 #include "collision/geometry.hpp"
+#include "collision/gjk_epa.hpp"
 #include "collision/manifold_reduction.hpp"
 
 #include <algorithm>
@@ -563,6 +564,12 @@ int collidePlane(const ShapeInstance& plane, const ShapeInstance& other, double 
           if (depthOf(y) > deepest_fixed + kDepthTolerance) candidate(y, base + 4);
         }
       }
+      break;
+    }
+    case ShapeType::Ellipsoid: {
+      // Smooth: its one deepest point, the support point against the plane's normal.
+      const ConvexSupport support = makeSupport(other);
+      candidate(support.support(-n), 0);
       break;
     }
     case ShapeType::Convex: {

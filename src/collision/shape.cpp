@@ -18,6 +18,8 @@ const char* shapeTypeName(ShapeType type) {
       return "convex";
     case ShapeType::Mesh:
       return "mesh";
+    case ShapeType::Ellipsoid:
+      return "ellipsoid";
   }
   return "unknown";
 }

@@ -750,7 +750,9 @@ class MjcfImporter {
     const std::vector<double> size =
         vector(e, "geom", cls, "size", 0).value_or(std::vector<double>{});
     const auto need = [&](std::size_t n) {  // the first n numbers, each > 0
-      if (size.size() < n) fail(where(e), fmt::format("size: a {} needs {} numbers", type, n));
+      if (size.size() < n)
+        fail(where(e), fmt::format("size: {} {} needs {} numbers",
+                                   type.find_first_of("aeiou") == 0 ? "an" : "a", type, n));
       for (std::size_t i = 0; i < n; ++i)
         if (!(size[i] > 0.0))
           fail(where(e), fmt::format("size: the {} must be > 0, got {}",
@@ -774,6 +776,10 @@ class MjcfImporter {
       need(3);
       s.type = ShapeType::Box;
       s.size = 2.0 * Vec3(size[0], size[1], size[2]);
+    } else if (type == "ellipsoid") {
+      need(3);
+      s.type = ShapeType::Ellipsoid;
+      s.radii = Vec3(size[0], size[1], size[2]);
     } else if (type == "plane") {
       if (!on_static) fail(where(e), "a plane geom must be on the world or a static body");
       s.type = ShapeType::Plane;
@@ -781,7 +787,7 @@ class MjcfImporter {
       s.offset = 0.0;
     } else {
       fail(where(e), fmt::format("type: '{}' is not a geom type linx reads (sphere, capsule, "
-                                 "cylinder, box, plane)",
+                                 "cylinder, box, ellipsoid, plane)",
                                  type));
     }
     if (fromto) {

@@ -44,6 +44,9 @@ json shape(const ShapeDef& s) {
     case ShapeType::Box:
       j["size"] = vec(s.size);
       break;
+    case ShapeType::Ellipsoid:
+      j["radii"] = vec(s.radii);
+      break;
     case ShapeType::Capsule:
     case ShapeType::Cylinder:
       j["radius"] = s.radius;

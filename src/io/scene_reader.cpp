@@ -618,20 +618,21 @@ class Reader {
     ShapeDef s;
     const Node type = require(n, "type");
     const std::string name = string(type);
-    static constexpr std::array kTypes{ShapeType::Sphere,   ShapeType::Box,   ShapeType::Capsule,
-                                       ShapeType::Cylinder, ShapeType::Plane, ShapeType::Convex,
-                                       ShapeType::Mesh};
+    static constexpr std::array kTypes{ShapeType::Sphere,   ShapeType::Box,      ShapeType::Capsule,
+                                       ShapeType::Cylinder, ShapeType::Plane,    ShapeType::Convex,
+                                       ShapeType::Mesh,     ShapeType::Ellipsoid};
     const auto known = std::find_if(kTypes.begin(), kTypes.end(),
                                     [&](ShapeType t) { return name == shapeTypeName(t); });
     if (known == kTypes.end())
       fail(type.path, fmt::format("unknown shape type '{}' (expected sphere, box, capsule, "
-                                  "cylinder, plane, convex or mesh)",
+                                  "cylinder, ellipsoid, plane, convex or mesh)",
                                   name));
     s.type = *known;
     // A field of another type of shape (a size on a sphere) is named as such.
-    static constexpr std::array<std::pair<std::string_view, std::array<ShapeType, 2>>, 8> kOwners{{
+    static constexpr std::array<std::pair<std::string_view, std::array<ShapeType, 2>>, 9> kOwners{{
         {"radius", {ShapeType::Sphere, ShapeType::Capsule}},
         {"size", {ShapeType::Box, ShapeType::Box}},
+        {"radii", {ShapeType::Ellipsoid, ShapeType::Ellipsoid}},
         {"length", {ShapeType::Capsule, ShapeType::Cylinder}},
         {"normal", {ShapeType::Plane, ShapeType::Plane}},
         {"offset", {ShapeType::Plane, ShapeType::Plane}},
@@ -656,6 +657,13 @@ class Reader {
         const Node size = require(n, "size");
         s.size = vec3(size);
         for (int i = 0; i < 3; ++i) positive({size.value[i], itemPath(size.path, i)});
+        break;
+      }
+      case ShapeType::Ellipsoid: {
+        allowOnly(n, withCommon({"radii"}));
+        const Node radii = require(n, "radii");
+        s.radii = vec3(radii);
+        for (int i = 0; i < 3; ++i) positive({radii.value[i], itemPath(radii.path, i)});
         break;
       }
       case ShapeType::Capsule:

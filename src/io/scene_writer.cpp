@@ -361,6 +361,9 @@ class Writer {
       case ShapeType::Box:
         j["size"] = vec3(s.size, childPath(path, "size"));
         break;
+      case ShapeType::Ellipsoid:
+        j["radii"] = vec3(s.radii, childPath(path, "radii"));
+        break;
       case ShapeType::Capsule:
       case ShapeType::Cylinder:
         j["radius"] = number(s.radius, childPath(path, "radius"));

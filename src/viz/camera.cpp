@@ -16,6 +16,8 @@ double boundingRadius(const ShapeDef& s) {
       return s.length / 2 + s.radius;
     case ShapeType::Cylinder:
       return std::hypot(s.length / 2, s.radius);
+    case ShapeType::Ellipsoid:
+      return s.radii.cwiseAbs().maxCoeff();
     case ShapeType::Convex:
     case ShapeType::Mesh: {
       double r = 0;
@@ -40,6 +42,8 @@ double shapeExtent(const ShapeDef& s, const Quat& q, const Vec3& dir) {
     case ShapeType::Cylinder:
       return std::abs(u.z()) * s.length / 2 +
              s.radius * std::sqrt(std::max(0.0, 1 - u.z() * u.z()));
+    case ShapeType::Ellipsoid:  // the support along u: |diag(radii) u|
+      return s.radii.cwiseProduct(u).norm();
     case ShapeType::Convex:
     case ShapeType::Mesh: {
       double e = -kInfinity;

@@ -70,6 +70,8 @@ double halfThickness(const ShapeDef& s) {
       return s.size.minCoeff() / 2;
     case ShapeType::Cylinder:
       return std::min(s.radius, s.length / 2);
+    case ShapeType::Ellipsoid:
+      return s.radii.cwiseAbs().minCoeff();
     case ShapeType::Convex: {
       double r = 0;
       for (const Vec3& p : s.points) r = std::max(r, p.norm());
@@ -114,6 +116,9 @@ std::string shapeObject(const ShapeDef& s, const std::string& texture) {
       body = m;
       break;
     }
+    case ShapeType::Ellipsoid:  // a unit sphere scaled by the semi-axes, in the shape frame
+      body = fmt::format("sphere {{ 0, 1 scale {} }}", vec(s.radii.cwiseAbs()));
+      break;
     case ShapeType::Plane:
       return "";  // the ground (povInclude)
   }

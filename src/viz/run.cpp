@@ -121,6 +121,10 @@ class SceneJson {
       s.type = ShapeType::Box;
       s.size = point(at(j, path, "size"), field("size"));
       if (!(s.size.minCoeff() > 0)) fail(field("size"), "every edge must be > 0");
+    } else if (type == "ellipsoid") {
+      s.type = ShapeType::Ellipsoid;
+      s.radii = point(at(j, path, "radii"), field("radii"));
+      if (!(s.radii.minCoeff() > 0)) fail(field("radii"), "every semi-axis must be > 0");
     } else if (type == "capsule" || type == "cylinder") {
       s.type = type == "capsule" ? ShapeType::Capsule : ShapeType::Cylinder;
       s.radius = extent(at(j, path, "radius"), field("radius"));

@@ -212,6 +212,16 @@ Surface tessellate(const ShapeDef& shape, const TessellationOptions& options) {
       return faceted(shape, true);
     case ShapeType::Mesh:
       return faceted(shape, false);
+    case ShapeType::Ellipsoid: {
+      // A unit icosphere stretched by the semi-axes; the normals by their inverses.
+      Surface s = sphere(1.0, std::clamp(options.sphere_subdivisions, 0, 8));
+      const Vec3 r = shape.radii.cwiseAbs();
+      for (std::size_t i = 0; i < s.points.size(); ++i) {
+        s.normals[i] = s.points[i].cwiseQuotient(r).normalized();
+        s.points[i] = s.points[i].cwiseProduct(r);
+      }
+      return s;
+    }
   }
   return {};
 }

@@ -41,6 +41,7 @@ function shapeRadius(s) {
     case 'box': return Math.hypot(...s.size) / 2;
     case 'capsule': return s.length / 2 + s.radius;
     case 'cylinder': return Math.hypot(s.length / 2, s.radius);
+    case 'ellipsoid': return Math.max(...s.radii);
     case 'convex':
     case 'mesh': return Math.max(0, ...(s.vertices || []).map((p) => Math.hypot(...p)));
     default: return 0;
@@ -202,6 +203,11 @@ export function buildScene(run, bounds) {
         case 'box':
           geom = new BoxGeometry(s.size[0], s.size[1], s.size[2]);
           edges = true;
+          break;
+        case 'ellipsoid':  // a unit sphere stretched by the semi-axes (normals recomputed)
+          geom = new SphereGeometry(1, 40, 20);
+          geom.scale(s.radii[0], s.radii[1], s.radii[2]);
+          geom.computeVertexNormals();
           break;
         case 'capsule':
           geom = zAxisGeometry(new CapsuleGeometry(s.radius, s.length, 10, 32));
