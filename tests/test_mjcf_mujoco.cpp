@@ -144,8 +144,8 @@ TEST(MjcfAgainstMujoco, HumanoidMassesAreMujocos) {
 
 // Ellipsoid geoms, turned and offset: each body's mass, centre and inertia as MuJoCo computes them
 // from the geoms (humanoid100's hands are ellipsoids). One geom a body: with several whose
-// principal axes differ, MuJoCo's body inertia differs from the exact sum (test_mass_properties)
-// by up to 7e-8 relative (two turned boxes), the precision of its eigen decomposition.
+// principal axes differ, MuJoCo's body inertia differs from linx's (the exact sum, checked in
+// test_mass_properties) by up to 7e-8 relative (two turned boxes), likely its eigen decomposition.
 TEST(MjcfAgainstMujoco, EllipsoidMassesAreMujocos) {
   const test::TempFolder folder("linx_mjcf_ellipsoid");
   const fs::path path = folder.write("eggs.xml", R"(<mujoco>
