@@ -1253,3 +1253,14 @@ TEST(SceneRead, DrivesAndSprings) {
 }
 
 }  // namespace
+
+namespace {
+// A hostile file nested 100,000 deep is refused while it is read (a clear error, no stack
+// overflow copying it), at the first level past the bound.
+TEST(SceneError, DeepNestingIsRefusedAtItsDepth) {
+  const std::string deep = std::string(100000, '[') + "1" + std::string(100000, ']');
+  const linx::SceneError e = errorOf(R"({"bodies": [{"name": "b", "mass": )" + deep + "}]}");
+  EXPECT_EQ(e.problem(), "nested deeper than 256 levels of arrays and objects");
+  EXPECT_EQ(e.field().rfind("bodies[0].mass[0][0]", 0), 0u);
+}
+}  // namespace

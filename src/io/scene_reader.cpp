@@ -70,6 +70,12 @@ class PathTracker {
       case json::parse_event_t::object_start:
       case json::parse_event_t::array_start:
         countItem();
+        // No scene nests deeper than a few levels; a hostile one nested 100,000 deep would be
+        // copied recursively when the ordered objects around it grow (and overflow the stack).
+        if (levels_.size() >= kMaxDepth)
+          throw SceneError(
+              file_, current(),
+              fmt::format("nested deeper than {} levels of arrays and objects", kMaxDepth));
         levels_.push_back({event == json::parse_event_t::array_start, -1, {}, {}});
         break;
       case json::parse_event_t::key: {
@@ -119,6 +125,7 @@ class PathTracker {
     if (!levels_.empty() && levels_.back().is_array) ++levels_.back().index;
   }
 
+  static constexpr std::size_t kMaxDepth = 256;
   const std::string& file_;
   std::vector<Level> levels_;
 };
