@@ -1264,3 +1264,16 @@ TEST(SceneError, DeepNestingIsRefusedAtItsDepth) {
   EXPECT_EQ(e.field().rfind("bodies[0].mass[0][0]", 0), 0u);
 }
 }  // namespace
+
+namespace {
+// An object of a million fields would be read by linear searches for hours: refused at the first
+// past 4096.
+TEST(SceneError, ObjectsOfThousandsOfFieldsAreRefused) {
+  std::string wide = "{";
+  for (int i = 0; i < 5000; ++i) wide += (i ? ", \"k" : "\"k") + std::to_string(i) + "\": 1";
+  wide += "}";
+  const linx::SceneError e = errorOf(R"({"bodies": [{"name": "b", "mass": )" + wide + "}]}");
+  EXPECT_EQ(e.problem(), "more than 4096 fields in one object");
+  EXPECT_EQ(e.field(), "bodies[0].mass.k4096");
+}
+}  // namespace

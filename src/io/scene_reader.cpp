@@ -81,6 +81,11 @@ class PathTracker {
       case json::parse_event_t::key: {
         Level& level = levels_.back();
         level.key = parsed.get<std::string>();
+        // An object keeps its fields in the file's order, found by a linear search: no scene's has
+        // more than a few dozen, and a hostile one of a million would take hours.
+        if (level.keys.size() >= kMaxKeys)
+          throw SceneError(file_, current(),
+                           fmt::format("more than {} fields in one object", kMaxKeys));
         if (!level.keys.insert(level.key).second) {
           throw SceneError(file_, current(), "duplicate key");
         }
@@ -126,6 +131,7 @@ class PathTracker {
   }
 
   static constexpr std::size_t kMaxDepth = 256;
+  static constexpr std::size_t kMaxKeys = 4096;
   const std::string& file_;
   std::vector<Level> levels_;
 };
