@@ -15,6 +15,15 @@
 namespace linx {
 namespace {
 
+/// A static floor, the plane z = 0, of the given friction.
+void addFloor(World& world, double friction) {
+  BodyDef floor;
+  floor.name = "floor";
+  floor.is_static = true;
+  floor.shapes.push_back(ShapeDef{.type = ShapeType::Plane, .friction = friction});
+  world.createBody(floor);
+}
+
 constexpr double kRadius = 0.05;
 constexpr int kRagdolls = 6;
 
@@ -26,11 +35,7 @@ World pile(int threads) {
   s.threads = threads;
   s.solver.iterations = 20;
   World world(s);
-  BodyDef floor;
-  floor.name = "floor";
-  floor.is_static = true;
-  floor.shapes.push_back(ShapeDef{.type = ShapeType::Plane, .friction = 0.5});
-  world.createBody(floor);
+  addFloor(world, 0.5);
   const int side = 17, layers = 15;
   for (int k = 0; k < layers; ++k)
     for (int j = 0; j < side; ++j)
@@ -103,11 +108,7 @@ World islands(int threads) {
   s.timestep = 1.0 / 120.0;
   s.threads = threads;
   World world(s);
-  BodyDef floor;
-  floor.name = "floor";
-  floor.is_static = true;
-  floor.shapes.push_back(ShapeDef{.type = ShapeType::Plane, .friction = 0.6});
-  world.createBody(floor);
+  addFloor(world, 0.6);
   for (int p = 0; p < 24; ++p) {
     const double y = 0.5 * p;
     BodyId previous = kWorldBody;
@@ -248,11 +249,7 @@ World ragdolls(int threads) {
   s.timestep = 1.0 / 60.0;
   s.threads = threads;
   World world(s);
-  BodyDef floor;
-  floor.name = "floor";
-  floor.is_static = true;
-  floor.shapes.push_back(ShapeDef{.type = ShapeType::Plane, .friction = 0.5});
-  world.createBody(floor);
+  addFloor(world, 0.5);
   struct Part {
     double mass, radius, half_length;
     Vec3 centre, along;
