@@ -114,6 +114,64 @@ TEST_F(MjcfImport, MassFromGeomsIsTheSolidsClosedForm) {
   EXPECT_NEAR(inertia(0, 0) / ixx - 1.0, 0.0, 1e-9);
 }
 
+// A cube of side 2 as OBJ quads, to be scaled.
+const char* kCubeObj = R"(v -1 -1 -1
+v 1 -1 -1
+v 1 1 -1
+v -1 1 -1
+v -1 -1 1
+v 1 -1 1
+v 1 1 1
+v -1 1 1
+f 1 4 3 2
+f 5 6 7 8
+f 1 2 6 5
+f 2 3 7 6
+f 3 4 8 7
+f 4 1 5 8
+)";
+
+// A mesh geom weighs as the box it is (scaled by powers of two, exact in single precision) and
+// collides as its hull: dropped flat on the floor, it comes to rest on its face. A visual copy of
+// it (contype and conaffinity 0) weighs too, as in MuJoCo, and is no shape.
+TEST_F(MjcfImport, MeshGeomsWeighAsTheirSolidAndCollideAsTheirHull) {
+  write("assets/cube.obj", kCubeObj);
+  const fs::path file = write("brick.xml", R"(<mujoco>
+    <compiler meshdir="assets"/>
+    <asset><mesh file="cube.obj" scale="0.125 0.25 0.0625"/></asset>
+    <worldbody>
+      <geom type="plane" size="1 1 0.1"/>
+      <body name="brick" pos="0.2 0.1 0.2">
+        <freejoint/>
+        <geom type="mesh" mesh="cube"/>
+        <geom type="mesh" mesh="cube" contype="0" conaffinity="0" pos="0 0 0.125"/>
+      </body>
+    </worldbody>
+  </mujoco>)");
+  const Scene scene = importMjcf(file);
+  ASSERT_EQ(scene.bodies.size(), 2u);
+  const BodyDef& def = scene.bodies[1];
+  ASSERT_EQ(def.shapes.size(), 1u);
+  EXPECT_EQ(def.shapes[0].type, ShapeType::Convex);
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("visual mesh geoms"), std::string::npos) << scene.warnings[0];
+  World world = buildWorld(scene);
+  const Body& brick = world.body(*world.findBody("brick"));
+  const double m = 1000.0 * 0.25 * 0.5 * 0.125;  // each copy, at MuJoCo's default density
+  EXPECT_NEAR(brick.mass(), 2.0 * m, 1e-12);
+  EXPECT_NEAR(brick.position().z(), 0.2 + 0.0625, 1e-12);  // midway between the two copies
+  // Each copy: m/12 (b^2 + c^2) about x; the two apart by 0.125 add 2 m (0.0625)^2.
+  const Mat3 inertia = brick.inertiaWorld();
+  EXPECT_NEAR(inertia(0, 0), 2.0 * m / 12.0 * (0.25 + 0.015625) + 2.0 * m * 0.0625 * 0.0625, 1e-12);
+  EXPECT_NEAR(inertia(2, 2), 2.0 * m / 12.0 * (0.0625 + 0.25), 1e-12);
+  EXPECT_NEAR(inertia(0, 1), 0.0, 1e-12);
+  for (int i = 0; i < 1000; ++i) world.step();  // 2 s at MuJoCo's 2 ms
+  // Resting on its collision copy's face: that copy's centre 0.0625 m up, the body's 0.0625 above.
+  EXPECT_NEAR(brick.position().z(), 0.125, 2e-3);
+  EXPECT_LT(brick.linearVelocity().norm(), 1e-3);
+  EXPECT_NEAR(brick.position().x(), 0.2, 1e-6);
+}
+
 TEST_F(MjcfImport, DefaultClassesChildclassIncludeAndDegrees) {
   write("arm_defaults.xml", R"(<mujoco>
     <default>
@@ -394,6 +452,23 @@ TEST_F(MjcfImport, BadFilesAreRefusedWithTheElementAndItsLine) {
       "<mujoco><worldbody><body name='b'><freejoint/>"
       "<inertial mass='1' diaginertia='1 -1 1'/></body></worldbody></mujoco>",
       "body 'b': inertia: ");
+  // Meshes: a file that is not there, a mesh not defined, a primitive fitted to a mesh, a flat
+  // mesh (no volume: MuJoCo refuses it), a file outside the model's folder.
+  write("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n");
+  const auto meshGeom = [&](const std::string& asset, const std::string& geom) {
+    return "<mujoco><asset>\n" + asset + "</asset><worldbody><body><freejoint/>\n<geom " + geom +
+           "/></body></worldbody></mujoco>";
+  };
+  refused(meshGeom("<mesh file='gone.obj'/>", "type='mesh' mesh='gone'"),
+          "mesh (line 2): mesh file " + (dir_ / "gone.obj").string() + ": cannot open");
+  refused(meshGeom("<mesh file='flat.obj'/>", "type='mesh' mesh='nothing'"),
+          "geom (line 3): mesh: no mesh 'nothing'");
+  refused(meshGeom("<mesh file='flat.obj'/>", "mesh='flat'"),
+          "geom (line 3): mesh: a sphere fitted to a mesh is not read");
+  refused(meshGeom("<mesh file='flat.obj'/>", "type='mesh' mesh='flat'"),
+          "mesh (line 2): file 'flat.obj': the mesh's volume is too small (MuJoCo refuses it too)");
+  refused(meshGeom("<mesh name='out' file='../outside.obj'/>", "type='mesh' mesh='out'"),
+          "mesh 'out' (line 2): ");
   // A fault in an element an include copied in: the element's own file and line (a copy has no
   // line of its own: it was named at "line 0"), through nested includes too.
   write("parts/arm.xml",

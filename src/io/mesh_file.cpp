@@ -282,12 +282,12 @@ void checkObjLines(const std::string& path, std::string_view text) {
   }
 }
 
-void readObj(const std::string& path, ShapeDef& mesh) {
+void readObj(const std::string& path, ShapeDef& mesh, ObjPolygons polygons) {
   const std::string text = readAll(path);
   checkObjLines(path, text);  // bad numbers and indices: with our messages
   tinyobj::ObjReader reader;
   tinyobj::ObjReaderConfig config;
-  config.triangulate = true;
+  config.triangulate = polygons == ObjPolygons::EarClipped;
   config.vertex_color = false;
   // From the text read (the file checked is the file parsed); materials are not used.
   if (!reader.ParseFromString(text, "", config)) {
@@ -324,7 +324,7 @@ void readObj(const std::string& path, ShapeDef& mesh) {
         face.push_back(index);
       }
       next += n;
-      for (std::size_t k = 1; k + 1 < face.size(); ++k)  // a fan, should any polygon remain
+      for (std::size_t k = 1; k + 1 < face.size(); ++k)  // a fan (ObjPolygons::Fanned)
         mesh.triangles.push_back({face[0], face[k], face[k + 1]});
     }
   }
@@ -332,13 +332,13 @@ void readObj(const std::string& path, ShapeDef& mesh) {
 
 }  // namespace
 
-ShapeDef loadMeshFile(const std::string& path) {
+ShapeDef loadMeshFile(const std::string& path, ObjPolygons polygons) {
   ShapeDef mesh;
   mesh.type = ShapeType::Mesh;
   mesh.file = path;
   const std::string ext = lowerExtension(path);
   if (ext == "obj")
-    readObj(path, mesh);
+    readObj(path, mesh, polygons);
   else if (ext == "stl")
     readStl(path, mesh);
   else

@@ -24,6 +24,11 @@ inline constexpr std::size_t kMaxObjFaceVertices = 64;
 /// STL or OBJ (with the line, and the file's own words: `OBJ line 4: face index 0 (indices start at
 /// 1)`), a vertex index out of range, a face of more than kMaxObjFaceVertices vertices, non-finite
 /// coordinates, no triangles, an unknown extension.
-ShapeDef loadMeshFile(const std::string& path);
+///
+/// `polygons`: how an OBJ polygon of more than three corners becomes triangles: by tinyobjloader's
+/// ear clipping (right for concave polygons), or as a fan from its first corner, as MuJoCo splits
+/// quads (0 1 2, 0 2 3; the same solid, but MuJoCo's single-precision inertia sums depend on it).
+enum class ObjPolygons { EarClipped, Fanned };
+ShapeDef loadMeshFile(const std::string& path, ObjPolygons polygons = ObjPolygons::EarClipped);
 
 }  // namespace linx::io

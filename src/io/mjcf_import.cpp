@@ -1,9 +1,11 @@
 // MuJoCo MJCF models as scenes (docs/model-import.md, "MJCF"): a subset read with tinyxml2.
 //
-// The steps: splice <include> files in; gather <compiler>, <option> and the <default> classes
-// (each class holds its parents' attributes, overridden by its own); walk <worldbody>, placing
-// each body's frame in the world from its parent's, with its geoms as shapes (mass from density
-// unless an <inertial> gives it) and its joint towards its parent; then <equality> constraints.
+// The steps: splice <include> files in; gather <compiler>, <option>, the <default> classes
+// (each class holds its parents' attributes, overridden by its own) and the <asset> meshes; walk
+// <worldbody>, placing each body's frame in the world from its parent's, with its geoms as shapes
+// (mass from density unless an <inertial> gives it; a mesh geom collides as its convex hull and
+// weighs what MuJoCo makes it weigh, io/mujoco_mesh.hpp) and its joint towards its parent; then
+// <equality> constraints.
 // Elements and attributes that linx does not use are counted and named in one warning.
 #include <linx/bounds.hpp>
 #include <linx/import.hpp>
@@ -11,12 +13,15 @@
 
 #include "io/import_check.hpp"
 #include "io/input_file.hpp"
+#include "io/mesh_file.hpp"
+#include "io/mujoco_mesh.hpp"
 #include "io/xml_error.hpp"
 
 #include <fmt/format.h>
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -315,11 +320,33 @@ class MjcfImporter {
                       });
       if (!ok) fail(where(e), "eulerseq: three of x, y, z, X, Y, Z");
     }
+    // Mesh files: in meshdir (else assetdir) under the model's folder, as MuJoCo finds them.
+    if (const char* dir = e->Attribute("assetdir"); dir && mesh_folder_.empty()) mesh_folder_ = dir;
+    if (const char* dir = e->Attribute("meshdir")) mesh_folder_ = dir;
+    if (const char* strip = e->Attribute("strippath")) strip_paths_ = flag(e, "strippath", strip);
+    if (const char* exact = e->Attribute("exactmeshinertia"))
+      exact_mesh_inertia_ = flag(e, "exactmeshinertia", exact);
+    if (const char* from = e->Attribute("inertiafromgeom")) {
+      inertia_from_geom_ = from;
+      if (inertia_from_geom_ != "auto" && inertia_from_geom_ != "true" &&
+          inertia_from_geom_ != "false")
+        fail(where(e), "inertiafromgeom: must be true, false or auto");
+    }
+    if (const auto groups = vector(e, "", "", "inertiagrouprange", 2))
+      inertia_groups_ = {(*groups)[0], (*groups)[1]};
     for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
       const std::string n = a->Name();
-      if (n != "angle" && n != "eulerseq" && n != "inertiafromgeom" && n != "autolimits")
+      if (n != "angle" && n != "eulerseq" && n != "inertiafromgeom" && n != "autolimits" &&
+          n != "meshdir" && n != "assetdir" && n != "strippath" && n != "exactmeshinertia" &&
+          n != "inertiagrouprange" && n != "convexhull" && n != "texturedir")
         unused(fmt::format("<compiler {}>", n));
     }
+  }
+
+  bool flag(const XMLElement* e, const char* name, const std::string& value) const {
+    if (value != "true" && value != "false")
+      fail(where(e), fmt::format("{}: must be true or false, got '{}'", name, value));
+    return value == "true";
   }
 
   void option(const XMLElement* e) {
@@ -343,9 +370,65 @@ class MjcfImporter {
       unused(fmt::format("<option><{}>", c->Name()));
   }
 
-  void assets(const XMLElement* e) {  // textures and materials colour pictures; meshes: not yet
-    for (const XMLElement* a = e->FirstChildElement(); a; a = a->NextSiblingElement())
-      unused(fmt::format("<asset><{}>", a->Name()));
+  // <asset>: meshes, read when a geom uses them (after <compiler>, which may come later and says
+  // where their files are). Textures and materials only colour MuJoCo's pictures.
+  void assets(const XMLElement* e) {
+    for (const XMLElement* a = e->FirstChildElement(); a; a = a->NextSiblingElement()) {
+      if (std::string(a->Name()) != "mesh") {
+        unused(fmt::format("<asset><{}>", a->Name()));
+        continue;
+      }
+      const char* file = a->Attribute("file");
+      if (!file) fail(where(a), "file: missing (meshes given by vertex and face are not read)");
+      // Unnamed, a mesh takes its file's name without folder and extension, as in MuJoCo.
+      const std::string name =
+          a->Attribute("name") ? a->Attribute("name") : std::filesystem::path(file).stem().string();
+      if (!mesh_assets_.emplace(name, a).second)
+        fail(where(a), fmt::format("a second mesh named '{}'", name));
+    }
+  }
+
+  // A mesh asset, read and weighed once.
+  struct Mesh {
+    std::vector<Vec3> points;  // the vertices as MuJoCo holds them (scaled, single precision)
+    io::MeshMass mass;         // per unit density
+  };
+
+  const Mesh& mesh(const XMLElement* geom, const std::string& name) {
+    if (const auto found = meshes_.find(name); found != meshes_.end()) return found->second;
+    const auto asset = mesh_assets_.find(name);
+    if (asset == mesh_assets_.end()) fail(where(geom), fmt::format("mesh: no mesh '{}'", name));
+    const XMLElement* e = asset->second;
+    const std::string cls = classOf(e, "main");
+    std::filesystem::path file = e->Attribute("file");
+    if (strip_paths_) file = file.filename();
+    const std::filesystem::path path = path_.parent_path() / mesh_folder_ / file;
+    ShapeDef read;
+    try {
+      io::checkInsideFolder(path, path_.parent_path(), options_.allow_outside_paths);
+      read = io::loadMeshFile(path.string(), io::ObjPolygons::Fanned);
+    } catch (const std::runtime_error& error) {
+      fail(where(e), error.what());  // names the file as found
+    }
+    const auto three = [&](const char* attr, Vec3 otherwise) {
+      const auto v = vector(e, "mesh", cls, attr, 3);
+      return v ? Vec3((*v)[0], (*v)[1], (*v)[2]) : otherwise;
+    };
+    const Vec3 scale = three("scale", Vec3::Ones());
+    if (!(scale.cwiseAbs().minCoeff() > 0.0)) fail(where(e), "scale: must not be zero");
+    const auto q = vector(e, "mesh", cls, "refquat", 4);
+    const Quat refquat = q ? Quat((*q)[0], (*q)[1], (*q)[2], (*q)[3]) : Quat::Identity();
+    if (!(refquat.norm() > 0.0)) fail(where(e), "refquat: must not be zero");
+    const io::MujocoMesh held = io::mujocoMesh(read, scale, three("refpos", Vec3::Zero()), refquat);
+    Mesh out;
+    try {
+      out.mass = io::mujocoMeshMass(held, exact_mesh_inertia_);
+    } catch (const std::exception& error) {
+      fail(where(e),
+           fmt::format("file '{}': {} (MuJoCo refuses it too)", file.string(), error.what()));
+    }
+    for (const auto& v : held.vertices) out.points.emplace_back(v[0], v[1], v[2]);
+    return meshes_.emplace(name, std::move(out)).first->second;
   }
 
   // ---- frames ----
@@ -425,9 +508,10 @@ class MjcfImporter {
       world_geoms_ = static_cast<int>(scene_.bodies.size()) - 1;
     }
     const std::string geom_class = classOf(e, cls);
-    ShapeDef s = geom(e, geom_class, /*on_static=*/true, nullptr);
-    place(s, Pose{}, geomPose(e, geom_class));
-    scene_.bodies[static_cast<std::size_t>(world_geoms_)].shapes.push_back(std::move(s));
+    Geom g = geom(e, geom_class, /*on_static=*/true);
+    if (!g.shape) return;
+    place(*g.shape, Pose{}, geomPose(e, geom_class));
+    scene_.bodies[static_cast<std::size_t>(world_geoms_)].shapes.push_back(std::move(*g.shape));
   }
 
   void body(XMLElement* e, const Pose& parent_frame, int parent, bool parent_moves,
@@ -469,7 +553,11 @@ class MjcfImporter {
     def.is_static = !moves;
     Pose carrier = frame;  // the frame the shapes are placed in
     const XMLElement* inertial = e->FirstChildElement("inertial");
-    if (inertial && moves) {
+    if (inertial && inertia_from_geom_ == "true") unused("<inertial> (inertiafromgeom is true)");
+    const bool given = inertial && moves && inertia_from_geom_ != "true";
+    if (moves && !inertial && inertia_from_geom_ == "false")
+      fail(where(e), "a moving body needs an <inertial> (the compiler's inertiafromgeom is false)");
+    if (given) {
       carrier = compose(frame, localPose(inertial));
       const double mass = number(inertial, "", "", "mass", 0.0);
       def.mass = mass;
@@ -483,20 +571,43 @@ class MjcfImporter {
         fail(where(inertial), "needs diaginertia or fullinertia");
       }
     }
-    def.position = carrier.position;
-    def.orientation = carrier.orientation;
+    // A body with mesh geoms is weighed here, as MuJoCo weighs it; others by their shapes'
+    // densities (the scene keeps them, and a changed size changes the mass).
+    const bool infer = moves && !given;
+    const bool weighed_here = infer && hasMeshGeom(e, cls);
+    std::vector<MassProperties> parts;
+    std::vector<std::pair<ShapeDef, Pose>> shapes;  // each with its pose in the body's frame
     for (XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
       const std::string tag = c->Name();
       if (tag == "geom") {
         const std::string geom_class = classOf(c, cls);
-        ShapeDef s = geom(c, geom_class, def.is_static, inertial && moves ? nullptr : &def);
-        place(s, carrier, compose(frame, geomPose(c, geom_class)));
-        def.shapes.push_back(std::move(s));
+        const Pose local = geomPose(c, geom_class);
+        Geom g = geom(c, geom_class, def.is_static);
+        const bool weighs = infer && inMassGroups(c, geom_class);
+        if (weighed_here && weighs) parts.push_back(geomMass(c, geom_class, g, local));
+        if (!g.shape) continue;
+        if (infer && !weighed_here && isSolid(g.shape->type))
+          g.shape->density = weighs ? density(c, geom_class, shapeVolume(*g.shape)) : 0.0;
+        shapes.emplace_back(std::move(*g.shape), local);
       } else if (tag != "body" && tag != "joint" && tag != "freejoint" && tag != "inertial") {
         unused("<" + tag + ">");
       }
     }
-    if (moves && !inertial && def.shapes.empty())
+    if (weighed_here) {
+      const MassProperties total = combine(parts);
+      if (!(total.mass > 0.0))
+        fail(where(e), "its geoms weigh nothing: a moving body needs a mass");
+      def.mass = total.mass;
+      def.inertia = total.inertia;
+      carrier = Pose{frame.toWorld(total.center), frame.orientation};
+    }
+    def.position = carrier.position;
+    def.orientation = carrier.orientation;
+    for (auto& [shape, local] : shapes) {
+      place(shape, carrier, compose(frame, local));
+      def.shapes.push_back(std::move(shape));
+    }
+    if (infer && !weighed_here && def.shapes.empty())
       fail(where(e), "a moving body needs an <inertial> or geoms to give it a mass");
     scene_.bodies.push_back(std::move(def));
     const int index = static_cast<int>(scene_.bodies.size()) - 1;
@@ -741,12 +852,60 @@ class MjcfImporter {
     s.orientation = (carrier.orientation.conjugate() * world.orientation).normalized();
   }
 
-  // A geom as a shape (placed by the caller). `density_body`: the body whose mass comes from its
-  // geoms (then the shape takes a density), none when an <inertial> gives it.
-  ShapeDef geom(const XMLElement* e, const std::string& cls, bool on_static,
-                const BodyDef* density_body) {
+  // A geom: its shape (placed by the caller, without a density), and its mesh if it is a mesh
+  // geom. A mesh geom that collides with nothing (contype and conaffinity 0: a visual mesh) has no
+  // shape; it still weighs, as in MuJoCo.
+  struct Geom {
+    std::optional<ShapeDef> shape;
+    const Mesh* mesh = nullptr;
+  };
+
+  bool hasMeshGeom(const XMLElement* body, const std::string& cls) const {
+    for (const XMLElement* c = body->FirstChildElement("geom"); c;
+         c = c->NextSiblingElement("geom"))
+      if (attribute(c, "geom", classOf(c, cls), "type") == "mesh") return true;
+    return false;
+  }
+
+  // Whether a geom weighs: its group in the compiler's inertiagrouprange (all groups by default).
+  bool inMassGroups(const XMLElement* e, const std::string& cls) const {
+    const double group = number(e, "geom", cls, "group", 0.0);
+    return group >= inertia_groups_[0] && group <= inertia_groups_[1];
+  }
+
+  // A geom's density: its mass over `volume` (MuJoCo's volume for its mass), else its density.
+  double density(const XMLElement* e, const std::string& cls, double volume) const {
+    if (const auto mass = vector(e, "geom", cls, "mass", 1)) {
+      if (!((*mass)[0] >= 0.0))
+        fail(where(e), fmt::format("mass: must be >= 0, got {}", (*mass)[0]));
+      return (*mass)[0] == 0.0 ? 0.0 : (*mass)[0] / volume;
+    }
+    const double d = number(e, "geom", cls, "density", kDefaultDensity);
+    if (!(d >= 0.0)) fail(where(e), fmt::format("density: must be >= 0, got {}", d));
+    return d;
+  }
+
+  // A geom's mass, centre and inertia in its body's frame (`local`: the geom's pose there).
+  MassProperties geomMass(const XMLElement* e, const std::string& cls, const Geom& g,
+                          const Pose& local) const {
+    if (!g.mesh) {
+      ShapeDef s = *g.shape;
+      s.position = local.position;
+      s.orientation = local.orientation;
+      return shapeMassProperties(s, density(e, cls, shapeVolume(s)));
+    }
+    const io::MeshMass& m = g.mesh->mass;
+    const double rho = density(e, cls, m.volume);
+    const Mat3 r = local.orientation.toRotationMatrix();
+    return {rho * m.volume, local.toWorld(m.centre), rho * (r * m.inertia * r.transpose())};
+  }
+
+  Geom geom(const XMLElement* e, const std::string& cls, bool on_static) {
+    Geom g;
     ShapeDef s;
     const std::string type = attribute(e, "geom", cls, "type").value_or("sphere");
+    if (type != "mesh" && attribute(e, "geom", cls, "mesh"))
+      fail(where(e), fmt::format("mesh: a {} fitted to a mesh is not read (type 'mesh' is)", type));
     const std::vector<double> size =
         vector(e, "geom", cls, "size", 0).value_or(std::vector<double>{});
     const auto need = [&](std::size_t n) {  // the first n numbers, each > 0
@@ -780,6 +939,12 @@ class MjcfImporter {
       need(3);
       s.type = ShapeType::Ellipsoid;
       s.radii = Vec3(size[0], size[1], size[2]);
+    } else if (type == "mesh") {
+      const auto name = attribute(e, "geom", cls, "mesh");
+      if (!name) fail(where(e), "mesh: a mesh geom needs one");
+      g.mesh = &mesh(e, *name);
+      s.type = ShapeType::Convex;  // MuJoCo collides a mesh as its convex hull
+      s.points = g.mesh->points;
     } else if (type == "plane") {
       if (!on_static) fail(where(e), "a plane geom must be on the world or a static body");
       s.type = ShapeType::Plane;
@@ -787,7 +952,7 @@ class MjcfImporter {
       s.offset = 0.0;
     } else {
       fail(where(e), fmt::format("type: '{}' is not a geom type linx reads (sphere, capsule, "
-                                 "cylinder, box, ellipsoid, plane)",
+                                 "cylinder, box, ellipsoid, mesh, plane)",
                                  type));
     }
     if (fromto) {
@@ -804,16 +969,12 @@ class MjcfImporter {
       if (attribute(e, "geom", cls, a)) unused(fmt::format("geom {}", a));
     s.group = bits(e, cls, "contype");
     s.mask = bits(e, cls, "conaffinity");
-    if (density_body && isSolid(s.type)) {
-      const auto mass = vector(e, "geom", cls, "mass", 1);
-      if (mass && !((*mass)[0] >= 0.0))
-        fail(where(e), fmt::format("mass: must be >= 0, got {}", (*mass)[0]));
-      s.density =
-          mass ? (*mass)[0] / shapeVolume(s) : number(e, "geom", cls, "density", kDefaultDensity);
-      if (!mass && !(*s.density >= 0.0))
-        fail(where(e), fmt::format("density: must be >= 0, got {}", *s.density));
+    if (g.mesh && s.group == 0 && s.mask == 0) {
+      unused("visual mesh geoms (contype and conaffinity 0: weighed, not drawn)");
+      return g;
     }
-    return s;
+    g.shape = std::move(s);
+    return g;
   }
 
   // contype and conaffinity: 32 bits, written as a whole number (default 1).
@@ -880,6 +1041,13 @@ class MjcfImporter {
   std::map<std::string, std::pair<std::size_t, int>> joint_coordinate_;
   std::map<std::string, int> unused_;
   std::vector<io::StartOutside> started_outside_;  // joints moved inside their range
+  std::filesystem::path mesh_folder_;              // <compiler meshdir> (or assetdir)
+  bool strip_paths_ = false;
+  bool exact_mesh_inertia_ = false;  // MuJoCo 2.2.2's default: the legacy rule
+  std::string inertia_from_geom_ = "auto";
+  std::array<double, 2> inertia_groups_{0.0, 5.0};
+  std::map<std::string, const XMLElement*> mesh_assets_;
+  std::map<std::string, Mesh> meshes_;  // read and weighed, by name
   int world_geoms_ = -1;
   int includes_ = 0;         // <include>s read
   std::uint64_t bytes_ = 0;  // bytes read: the model and every include read
