@@ -285,14 +285,14 @@ TEST_F(MjcfImport, WhatLinxDoesNotUseIsNamedInOneWarning) {
         <site name="s"/>
       </body>
     </worldbody>
-    <actuator><motor joint="j" gear="10"/><general joint="j"/></actuator>
+    <actuator><motor joint="j" gear="10"/><general joint="j" dyntype="filter"/></actuator>
     <sensor><jointpos joint="j"/></sensor>
   </mujoco>)";
   const Scene scene = importMjcf(write("extras.xml", text));
   ASSERT_EQ(scene.warnings.size(), 1u);
   const std::string& w = scene.warnings[0];
-  for (const char* named : {"<actuator><general>", "<sensor>", "<light>", "<site>",
-                            "<compiler coordinate>", "<asset><texture>"})
+  for (const char* named : {"<actuator><general> with activation (dyntype)", "<sensor>", "<light>",
+                            "<site>", "<compiler coordinate>", "<asset><texture>"})
     EXPECT_NE(w.find(named), std::string::npos) << named << " not in: " << w;
   EXPECT_EQ(w.find("armature"), std::string::npos) << w;  // read: the coordinate's armature
   EXPECT_EQ(scene.joints[0].def.coordinates[0].armature, 0.1);

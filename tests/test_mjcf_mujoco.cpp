@@ -195,6 +195,59 @@ TEST(MjcfAgainstMujoco, EllipsoidMassesAreMujocos) {
   }
 }
 
+// An arm held by its actuators at their controls' nearest values to zero, as MuJoCo holds it at its
+// start: <general> position servos in Menagerie's form (gain kp, bias -kp L - kv L', from a
+// default class), one with a gear and a control range that excludes zero (its control is the
+// range's lower end), and one on a slide. Gravity sags each joint from its target
+// by its load over its stiffness; after 2 s both engines hold the same pose.
+TEST(MjcfAgainstMujoco, ArmHeldByGeneralServosRestsWhereMujocosDoes) {
+  const test::TempFolder folder("linx_mjcf_servo_arm");
+  const fs::path path = folder.write("arm.xml", R"(<mujoco>
+  <option timestep="0.001"/>
+  <default><general gaintype="fixed" biastype="affine" gainprm="200" biasprm="0 -200 -20"/></default>
+  <worldbody>
+    <body name="upper" pos="0 0 1">
+      <joint name="shoulder" axis="0 1 0" armature="0.01"/>
+      <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.04"/>
+      <body name="fore" pos="0.4 0 0">
+        <joint name="elbow" axis="0 1 0" armature="0.01"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <body name="hand" pos="0.3 0 0">
+          <joint name="wrist" type="slide" axis="1 0 0"/>
+          <geom type="box" size="0.05 0.03 0.02"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <general joint="shoulder"/>
+    <general joint="elbow" gear="2" ctrllimited="true" ctrlrange="0.3 1" gainprm="100" biasprm="0 -100 -10"/>
+    <general joint="wrist" gainprm="500" biasprm="0 -500 -50" ctrllimited="true"
+             ctrlrange="-0.1 -0.05"/>
+  </actuator>
+</mujoco>)");
+  MujocoModel mj(path);
+  const Scene scene = importMjcf(path);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+  World world = buildWorld(scene);
+  for (int i = 0; i < 2000; ++i) {
+    world.step();
+    mj_step(mj.model, mj.data);
+  }
+  for (const char* name : {"upper", "fore", "hand"}) {
+    const int b = mj.body(name);
+    const Vec3 at = world.body(*world.findBody(name)).position();
+    const Vec3 sag = at - Vec3(scene.bodies[static_cast<std::size_t>(b - 1)].position);
+    std::printf("%s: %.2e m from MuJoCo's after 2 s (moved %.3f m from the start)\n", name,
+                (at - mj.centre(b)).norm(), sag.norm());
+    EXPECT_LT((at - mj.centre(b)).norm(), 1e-9) << name;
+  }
+  // The elbow at its target, 0.3 / 2 rad, less its sag: it has turned from its start.
+  const double elbow =
+      mj.data->qpos[mj.model->jnt_qposadr[mj_name2id(mj.model, mjOBJ_JOINT, "elbow")]];
+  EXPECT_GT(elbow, 0.1);
+}
+
 // Mesh files of our own: an L-shaped prism (not convex: MuJoCo's legacy rule takes each pyramid's
 // volume positive, which is not the solid's volume) as OBJ quads, and a tetrahedron as binary STL.
 const char* kEllObj = R"(v 0 0 0

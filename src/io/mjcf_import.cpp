@@ -759,9 +759,10 @@ class MjcfImporter {
   // ---- actuators: each on one joint's coordinate, at zero control (MuJoCo's start) ----
 
   void actuators(const XMLElement* list) {
+    static const std::set<std::string> kinds{"general", "motor", "position", "velocity", "damper"};
     for (const XMLElement* e = list->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const std::string kind = e->Name();
-      if (kind != "motor" && kind != "position" && kind != "velocity") {
+      if (!kinds.count(kind)) {
         unused("<actuator><" + kind + ">");
         continue;
       }
@@ -773,18 +774,68 @@ class MjcfImporter {
       const auto found = joint_coordinate_.find(joint);
       if (found == joint_coordinate_.end())
         fail(where(e), fmt::format("joint: no hinge or slide joint named '{}'", joint));
+      const std::string cls = classOf(e, "main");
+      if (attribute(e, kind, cls, "dyntype").value_or("none") != "none") {
+        unused("<actuator><" + kind + "> with activation (dyntype)");
+        continue;
+      }
       SceneJoint& j = scene_.joints[found->second.first];
       CoordinateDef& c = j.def.coordinates[static_cast<std::size_t>(found->second.second)];
-      actuator(e, kind, classOf(e, "main"), c);
+      actuator(e, kind, cls, c);
     }
   }
 
+  // An actuator's force is MuJoCo's gain times its control plus its bias, each affine in the
+  // actuator's length L and velocity L' (gainprm and biasprm: p0 + p1 L + p2 L'). The shortcuts
+  // are generals of fixed forms: a motor gain 1; a position servo gain kp, bias -kp L - kv L'; a
+  // velocity servo gain kv, bias -kv L'; a damper gain -kv L'.
+  struct Affine {
+    double constant = 0.0, length = 0.0, velocity = 0.0;
+  };
+
+  std::pair<Affine, Affine> gainAndBias(const XMLElement* e, const std::string& kind,
+                                        const std::string& cls) const {
+    const auto positive = [&](const char* name, double otherwise, bool zero_allowed) {
+      const double v = number(e, kind, cls, name, otherwise);
+      if (zero_allowed ? !(v >= 0.0) : !(v > 0.0))
+        fail(where(e), fmt::format("{}: must be {} 0", name, zero_allowed ? ">=" : ">"));
+      return v;
+    };
+    if (kind == "motor") return {{1.0, 0.0, 0.0}, {}};
+    if (kind == "position") {
+      const double kp = positive("kp", 1.0, false), kv = positive("kv", 0.0, true);
+      return {{kp, 0.0, 0.0}, {0.0, -kp, -kv}};
+    }
+    if (kind == "velocity") {
+      const double kv = positive("kv", 1.0, false);
+      return {{kv, 0.0, 0.0}, {0.0, 0.0, -kv}};
+    }
+    if (kind == "damper") return {{0.0, 0.0, -positive("kv", 1.0, true)}, {}};
+    const auto parameters = [&](const char* name, const char* type_name, const char* otherwise) {
+      const std::string type = attribute(e, kind, cls, type_name).value_or(otherwise);
+      if (type != "fixed" && type != "affine" && type != "none")
+        fail(where(e),
+             fmt::format("{}: '{}' is not read (fixed, affine or none)", type_name, type));
+      const std::vector<double> p = vector(e, kind, cls, name, 0).value_or(std::vector<double>{});
+      const auto at = [&](std::size_t i, double d) { return i < p.size() ? p[i] : d; };
+      if (type == "none") return Affine{};
+      if (type == "fixed") return Affine{at(0, 1.0), 0.0, 0.0};
+      return Affine{at(0, 1.0), at(1, 0.0), at(2, 0.0)};
+    };
+    Affine gain = parameters("gainprm", "gaintype", "fixed");
+    Affine bias = parameters("biasprm", "biastype", "none");
+    if (attribute(e, kind, cls, "biastype").value_or("none") == "affine" &&
+        !vector(e, kind, cls, "biasprm", 0))
+      bias = Affine{};  // MuJoCo's biasprm defaults to zeros
+    return {gain, bias};
+  }
+
   // MuJoCo's actuator on a joint of coordinate q, with gear g and control u (0 until a controller
-  // sets it, clamped to ctrlrange): its length is g q and its force f acts on q as g f:
-  //   motor:    f = u                 -> a force g u along q (CoordinateDef::force)
-  //   position: f = kp (u - g q)      -> a servo of stiffness kp g^2 towards u / g
-  //   velocity: f = kv (u - g q')     -> a damped motor of damping kv g^2 towards u / g
-  // forcerange bounds f: the servo's max_force is g times it.
+  // sets it, clamped to ctrlrange): its length is L = g q and its force F acts on q as g F. At a
+  // fixed control, F = c0 + c1 L + c2 L' (gain times u plus bias): with c1 < 0 a servo of
+  // stiffness -c1 g^2 and damping -c2 g^2 towards q = -c0 / (c1 g); with c1 = 0 and c2 < 0 a
+  // damped motor towards q' = -c0 / (c2 g); with both 0 a constant force g c0 (CoordinateDef::
+  // force). forcerange bounds F: the servo's max_force is g times it.
   void actuator(const XMLElement* e, const std::string& kind, const std::string& cls,
                 CoordinateDef& c) {
     const auto gear = vector(e, kind, cls, "gear", 0);
@@ -798,7 +849,7 @@ class MjcfImporter {
     const auto ctrlrange = vector(e, kind, cls, "ctrlrange", 2);
     if (ctrlrange && ctrllimited != "false")
       control = std::clamp(control, (*ctrlrange)[0], std::max((*ctrlrange)[0], (*ctrlrange)[1]));
-    double max_force = kInfinity;
+    double max_force = kInfinity, low = -kInfinity, high = kInfinity;
     const std::string forcelimited = attribute(e, kind, cls, "forcelimited").value_or("auto");
     if (const auto range = vector(e, kind, cls, "forcerange", 2);
         range && forcelimited != "false") {
@@ -806,28 +857,31 @@ class MjcfImporter {
         fail(where(e), "forcerange: must contain zero");
       if ((*range)[0] != -(*range)[1]) unused("asymmetric actuator forcerange (the larger bound)");
       max_force = std::abs(g) * std::max(-(*range)[0], (*range)[1]);
+      low = (*range)[0];
+      high = (*range)[1];
     }
-    if (kind == "motor") {
-      const double force = g * control;
+    const auto [gain, bias] = gainAndBias(e, kind, cls);
+    const double c0 = gain.constant * control + bias.constant;
+    const double c1 = gain.length * control + bias.length;
+    const double c2 = gain.velocity * control + bias.velocity;
+    if (c1 > 0.0 || c2 > 0.0)
+      fail(where(e),
+           "pushes away from where it is (a gain or bias growing with the actuator's "
+           "length or velocity): not read");
+    if (c1 == 0.0 && c2 == 0.0) {
+      const double force = g * std::clamp(c0, low, high);
       c.force = Signal(c.force ? c.force->at(0.0) + force : force);
       return;
     }
-    if (c.motor) fail(where(e), "a second position or velocity actuator on one joint");
+    if (c.motor) fail(where(e), "a second servo or damped actuator on one joint");
     JointMotor m;
     m.max_force = max_force;
-    if (kind == "position") {
-      const double kp = number(e, kind, cls, "kp", 1.0);
-      if (!(kp > 0.0)) fail(where(e), "kp: must be > 0");
-      m.target_position = Signal(control / g);
-      m.stiffness = kp * g * g;
-      const double kv = number(e, kind, cls, "kv", 0.0);
-      if (kv < 0.0) fail(where(e), "kv: must be >= 0");
-      m.damping = kv * g * g;
+    m.damping = -c2 * g * g;
+    if (c1 < 0.0) {
+      m.stiffness = -c1 * g * g;
+      m.target_position = Signal(-c0 / (c1 * g));
     } else {
-      const double kv = number(e, kind, cls, "kv", 1.0);
-      if (!(kv > 0.0)) fail(where(e), "kv: must be > 0");
-      m.target_velocity = Signal(control / g);
-      m.damping = kv * g * g;
+      m.target_velocity = Signal(-c0 / (c2 * g));
     }
     c.motor = m;
   }
