@@ -63,6 +63,7 @@ struct JointMotor {
 
   /// A velocity motor holds its rate rigidly; a servo or damped motor acts as a spring-damper.
   bool isServo() const { return target_position.has_value() || damping > 0.0; }
+  friend bool operator==(const JointMotor&, const JointMotor&) = default;
 };
 
 /// A spring and damper on a joint coordinate x: F = -stiffness (x - rest) - damping x'. Both terms

@@ -1,6 +1,7 @@
 // Umbrella header: the whole public API.
 #pragma once
 
+#include <linx/actuator.hpp>
 #include <linx/body.hpp>
 #include <linx/checkpoint.hpp>
 #include <linx/contact.hpp>

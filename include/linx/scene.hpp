@@ -1,6 +1,7 @@
 // JSON scene files (docs/scene-format.md): reading, validating and building a World from them.
 #pragma once
 
+#include <linx/actuator.hpp>
 #include <linx/body.hpp>
 #include <linx/joint.hpp>
 #include <linx/loads.hpp>
@@ -58,6 +59,8 @@ struct Scene {
   /// Top-level springs: spring joints (type "spring"), created after `joints`.
   std::vector<SceneJoint> springs;
   std::vector<SceneLoad> loads;  ///< top-level forces and torques
+  /// Actuators on the joints' coordinates (their joint ids index `joints`), created after them.
+  std::vector<ActuatorDef> actuators;
   std::optional<SceneView> view;
   /// What the file held that linx does not use (an imported model's unsupported elements), one
   /// line each, to be shown to the user.
@@ -83,7 +86,7 @@ Scene parseScene(std::string_view text, const std::string& file, const ImportOpt
 /// scene whose world behaves the same to the bit: meshes inline, tables from CSV files inline,
 /// defaults left out. Throws std::runtime_error naming a field no scene file can hold.
 std::string writeSceneJson(const Scene& scene);
-/// Builds the world (bodies in order, then joints, springs and loads). Throws SceneError.
+/// Builds the world (bodies in order, then joints, springs, actuators and loads). Throws SceneError.
 World buildWorld(const Scene& scene);
 
 /// The resolved scene of a run as the text of `scene.json` (docs/scene-format.md, "Outputs"):

@@ -1,6 +1,7 @@
 // The world: bodies, joints and the time step. See docs/architecture.md for the stages of a step.
 #pragma once
 
+#include <linx/actuator.hpp>
 #include <linx/body.hpp>
 #include <linx/contact.hpp>
 #include <linx/integrator.hpp>
@@ -200,6 +201,29 @@ class World {
   /// applyForceAtPoint and applyTorque, or changes drives' targets (a controller). It must not
   /// step the world. An empty function removes it.
   void setForceCallback(std::function<void(World&)> callback);
+
+  /// Adds an actuator on a joint's coordinate (linx/actuator.hpp), at its control. Throws
+  /// std::invalid_argument for an empty or repeated name, an unknown joint or coordinate, a
+  /// coordinate with a motor or force of its own or a second servo, terms that push away at some
+  /// control, a range whose lower end is above its upper, or a number that is not finite.
+  ActuatorId createActuator(const ActuatorDef& def);
+  int actuatorCount() const;
+  /// Throws std::out_of_range for an id that is not one of this world's actuators.
+  const ActuatorDef& actuator(ActuatorId id) const;
+  std::optional<ActuatorId> findActuator(std::string_view name) const;
+  /// The controls, one per actuator in the order of creation, as given (clamped to each
+  /// control_range where used): writable between steps, MuJoCo's data.ctrl. An actuator whose
+  /// control is a table in time takes the table's value at each step's start instead. Not part of
+  /// saveState(): an input, like a motor's target.
+  std::span<double> controls();
+  std::span<const double> controls() const;
+  /// Sets one actuator's control to `value` from now on (ending its table, if it had one). Throws
+  /// std::invalid_argument for a value that is not finite.
+  void setControl(ActuatorId id, double value);
+  /// The actuator's force F along its length (N or N m; its coordinate feels gear F) at the
+  /// bodies' current state and its control, within its force_range: what MuJoCo's actuator_force
+  /// holds after mj_forward. 0 once its joint is removed.
+  double actuatorForce(ActuatorId id) const;
 
   /// The number of body (joint) slots: ids run from index 0 to bodyCount() - 1. Until something
   /// is removed, every slot holds a body (BodyId{i} is the i-th created); after, some may be

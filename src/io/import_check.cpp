@@ -26,6 +26,13 @@ void completeImported(Scene& scene, std::string_view body_element) {
       throw SceneError(scene.file, fmt::format("joint '{}'", joint.def.name), e.what());
     }
   }
+  for (const ActuatorDef& actuator : scene.actuators) {
+    try {
+      world.createActuator(actuator);
+    } catch (const std::invalid_argument& e) {
+      throw SceneError(scene.file, fmt::format("actuator '{}'", actuator.name), e.what());
+    }
+  }
 }
 
 // As the scene builder's start check: rounding, not a modelling choice.

@@ -156,6 +156,13 @@ World buildWorld(const Scene& scene) {
     }
   }
   for (std::size_t i = 0; i < scene.joints.size(); ++i) checkStart(scene, world, i);
+  for (std::size_t i = 0; i < scene.actuators.size(); ++i) {
+    try {
+      world.createActuator(scene.actuators[i]);
+    } catch (const std::invalid_argument& e) {
+      throw refused(scene.file, fmt::format("actuators[{}]", i), e.what());
+    }
+  }
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) checkStartSpeed(scene, world, i);
   for (const SceneLoad& load : scene.loads) {
     try {

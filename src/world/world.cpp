@@ -26,6 +26,7 @@
 #include <stdexcept>
 #include <tuple>
 #include <unordered_map>
+#include <utility>
 
 namespace linx {
 
@@ -338,6 +339,7 @@ void World::step() {
     bodies_[static_cast<std::size_t>(body)].setLinearVelocity(
         (path.at(time_ + h) - bodies_[static_cast<std::size_t>(body)].position()) / h);
   if (impl_->force_callback) impl_->force_callback(*this);
+  impl_->actuators.apply(*this, time_);
   impl_->loads.apply(bodies_, time_);
   step::Scene scene{bodies_, joints_, settings_, parallel::resolveThreads(settings_.threads)};
   impl_->check.begin(bodies_, settings_.gravity);
@@ -433,6 +435,31 @@ void World::wake(BodyId id) {
 
 std::span<const Contact> World::contacts() const {
   return impl_->step.contact.contacts();
+}
+
+ActuatorId World::createActuator(const ActuatorDef& def) {
+  return impl_->actuators.add(def, *this);
+}
+int World::actuatorCount() const {
+  return impl_->actuators.count();
+}
+const ActuatorDef& World::actuator(ActuatorId id) const {
+  return impl_->actuators.def(id);
+}
+std::optional<ActuatorId> World::findActuator(std::string_view name) const {
+  return impl_->actuators.find(name);
+}
+std::span<double> World::controls() {
+  return impl_->actuators.controls();
+}
+std::span<const double> World::controls() const {
+  return std::as_const(*impl_).actuators.controls();
+}
+void World::setControl(ActuatorId id, double value) {
+  impl_->actuators.setControl(id, value);
+}
+double World::actuatorForce(ActuatorId id) const {
+  return impl_->actuators.force(id, *this);
 }
 
 JointCoordinates World::jointCoordinates(JointId id) const {

@@ -1,5 +1,5 @@
 // What a World keeps beyond its bodies and joints: slots, the step's state, the fault check,
-// name lookups, standing loads, kinematic paths and the force callback (world.cpp, and
+// name lookups, standing loads, kinematic paths, the force callback and the actuators (world.cpp, and
 // world_state.cpp for saveState and restoreState).
 #pragma once
 
@@ -7,6 +7,7 @@
 
 #include "step/check.hpp"
 #include "step/step.hpp"
+#include "world/actuators.hpp"
 #include "world/applied_loads.hpp"
 #include "world/slots.hpp"
 
@@ -27,6 +28,7 @@ struct World::Impl {
   AppliedLoads loads;
   std::vector<std::pair<int, VectorSignal>> paths;  // kinematic bodies' paths
   std::function<void(World&)> force_callback;
+  Actuators actuators;
 };
 
 }  // namespace linx
